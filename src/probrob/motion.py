@@ -1,0 +1,554 @@
+r"""Probabilistic motion models of *Probabilistic Robotics*, chapter 5.
+
+* :func:`motion_model_velocity` — Table 5.1, the density :math:`p(x_t \mid u_t, x_{t-1})`
+  of the velocity motion model;
+* :func:`sample_motion_model_velocity` — Table 5.3, its sampler;
+* :func:`motion_model_odometry` — Table 5.5, the odometry motion model's density;
+* :func:`sample_motion_model_odometry` — Table 5.6, its sampler;
+* :func:`velocity_motion` — the noise-free motion :math:`g(u_t, x_{t-1})` (Table 7.2,
+  line 5), exact for :math:`\omega = 0`;
+* :func:`odometry_deltas` — :math:`(\delta_{rot1}, \delta_{trans}, \delta_{rot2})` of two
+  poses (Table 5.5, lines 2–4, with wrapped angles).
+
+Conventions (see the book's *conventions* page):
+
+* poses are arrays of shape ``(..., 3)`` holding :math:`(x, y, \theta)`; velocity
+  controls ``(..., 2)`` holding :math:`(v, \omega)`; odometry controls ``(..., 2, 3)``
+  holding :math:`(\bar x_{t-1}, \bar x_t)`. Leading axes broadcast.
+* ``alpha`` holds the noise parameters :math:`\alpha_1 \ldots \alpha_6` (velocity) or
+  :math:`\alpha_1 \ldots \alpha_4` (odometry).
+* ``noise="variance"`` (default, later printings of the book): :math:`\alpha_1 v^2 +
+  \alpha_2 \omega^2` is a variance. ``noise="std"`` (first printing, Turkish deck):
+  :math:`\alpha_1 |v| + \alpha_2 |\omega|` is a standard deviation.
+* ``density="book"``: the tables' value, a density over the noise variables.
+  ``density="pose"``: a density over :math:`(x', y', \theta')`, which integrates to one.
+
+The velocity model is written in the robot frame of :math:`x_{t-1}`. With the
+displacement :math:`(a, b)` of :math:`x_t` ahead of and to the left of the robot, the
+circle through both positions and tangent to the initial heading turns by
+:math:`\Delta\theta = 2\arctan(b / a)` (the tangent–chord angle) and has signed radius
+:math:`(a^2 + b^2) / (2b)`. This is the book's circle-centre construction (lines 2–6 of
+Table 5.1) without its division by zero on straight lines, and with the sign of
+:math:`\hat v` right for right turns and reversing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from . import _validation as check
+from .angles import angle_diff
+from .distributions import prob_normal_distribution, sample_normal_distribution
+
+__all__ = [
+    "motion_model_odometry",
+    "motion_model_velocity",
+    "odometry_deltas",
+    "sample_motion_model_odometry",
+    "sample_motion_model_velocity",
+    "velocity_motion",
+]
+
+_NOISE_FORMS = ("variance", "std")
+_DENSITIES = ("book", "pose")
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _unpack(arr: np.ndarray) -> tuple[np.ndarray, ...]:
+    return tuple(np.moveaxis(arr, -1, 0))
+
+
+def _stack(*components) -> np.ndarray:
+    return np.stack(np.broadcast_arrays(*components), axis=-1)
+
+
+def _noise_variance(alpha_a, alpha_b, m_a, m_b, noise: str, alpha_c=None, m_c=None):
+    """Variance of one noise term: ``α_a m_a² + α_b m_b² (+ α_c m_c²)`` or its std form."""
+    if noise == "variance":
+        var = alpha_a * m_a**2 + alpha_b * m_b**2
+        if alpha_c is not None:
+            var = var + alpha_c * m_c**2
+        return var
+    std = alpha_a * np.abs(m_a) + alpha_b * np.abs(m_b)
+    if alpha_c is not None:
+        std = std + alpha_c * np.abs(m_c)
+    return std**2
+
+
+def _arc(x, y, th, v, w, dt):
+    r"""Exact motion on a circle for time ``dt`` (Table 5.3 lines 5–7 without γ).
+
+    Uses :math:`\frac{v}{\omega}[\sin(\theta + \omega\Delta t) - \sin\theta] =
+    v\Delta t\,\mathrm{sinc}(\omega\Delta t / 2)\cos(\theta + \omega\Delta t / 2)`,
+    which is finite and exact at :math:`\omega = 0`.
+    """
+    turn = w * dt
+    mid = th + 0.5 * turn
+    chord = v * dt * np.sinc(turn / (2.0 * np.pi))  # np.sinc(x) = sin(πx)/(πx)
+    return x + chord * np.cos(mid), y + chord * np.sin(mid), th + turn
+
+
+def _velocity_controls(alpha, u_t, noise):
+    v, w = _unpack(u_t)
+    a1, a2, a3, a4, a5, a6 = alpha
+    return (
+        v,
+        w,
+        _noise_variance(a1, a2, v, w, noise),
+        _noise_variance(a3, a4, v, w, noise),
+        _noise_variance(a5, a6, v, w, noise),
+    )
+
+
+# --------------------------------------------------------------------------- velocity
+
+
+def velocity_motion(x_prev, u_t, dt):
+    r"""Return the noise-free pose after moving with velocities ``u_t`` for ``dt``.
+
+    The function :math:`g(u_t, x_{t-1})` of *Probabilistic Robotics*, Table 7.2,
+    line 5 (and Table 5.3, lines 5–7 without noise):
+
+    .. math::
+        \begin{pmatrix} x' \\ y' \\ \theta' \end{pmatrix} =
+        \begin{pmatrix} x - \frac{v}{\omega}\sin\theta + \frac{v}{\omega}\sin(\theta + \omega\Delta t) \\
+                        y + \frac{v}{\omega}\cos\theta - \frac{v}{\omega}\cos(\theta + \omega\Delta t) \\
+                        \theta + \omega\Delta t \end{pmatrix}
+
+    evaluated in the equivalent chord form, so that :math:`\omega = 0` gives the
+    straight line :math:`(x + v\Delta t\cos\theta,\ y + v\Delta t\sin\theta,\ \theta)`
+    exactly, and small :math:`\omega` loses no precision.
+
+    Parameters
+    ----------
+    x_prev : array_like, shape (..., 3)
+        Poses :math:`(x, y, \theta)`.
+    u_t : array_like, shape (..., 2)
+        Controls :math:`(v, \omega)` in m/s and rad/s.
+    dt : float
+        Time step :math:`\Delta t > 0` in s.
+
+    Returns
+    -------
+    x_t : ndarray, shape broadcast(...) + (3,)
+        Poses after the motion; :math:`\theta'` is not wrapped.
+    """
+    x_prev = check.poses(x_prev, "x_prev")
+    u_t = check.vectors(u_t, "u_t", 2, "v, omega")
+    dt = check.positive_scalar(dt, "dt")
+    x, y, th = _unpack(x_prev)
+    v, w = _unpack(u_t)
+    return _stack(*_arc(x, y, th, v, w, dt))
+
+
+def _invert_velocity(x_t, x_prev, dt):
+    r"""Recover :math:`(\hat v, \hat\omega, \hat\gamma)` that move ``x_prev`` to ``x_t``.
+
+    Also returns the half turn :math:`\hat\omega\Delta t / 2` for the Jacobian.
+    """
+    x, y, th = _unpack(x_prev)
+    xn, yn, thn = _unpack(x_t)
+    dx, dy = xn - x, yn - y
+    c, s = np.cos(th), np.sin(th)
+    ahead = c * dx + s * dy  # displacement along the initial heading
+    left = c * dy - s * dx  # ... and to its left
+    # Half the turn, arctan(left / ahead) in [-π/2, π/2]: reversing (ahead < 0) is the
+    # short arc backwards, not a turn of nearly 2π.
+    sign = np.where(ahead < 0, -1.0, 1.0)
+    half = np.arctan2(sign * left, np.abs(ahead))
+    # Rotation in place (x', y' = x, y): every ω̂ reaches the position. Take the limit
+    # of arcs with v̂ → 0, on which the whole turn is ω̂ Δt and γ̂ = 0.
+    in_place = (ahead == 0) & (left == 0)
+    half = np.where(in_place, 0.5 * np.asarray(angle_diff(thn, th)), half)
+    # v̂ Δt = arc length = (ahead² + left²) · half / left; its limit at left = 0 is ahead.
+    safe_left = np.where(left == 0, 1.0, left)
+    safe_ahead = np.where(ahead == 0, 1.0, ahead)
+    ratio = np.where(left != 0, half / safe_left, np.where(ahead != 0, 1.0 / safe_ahead, 0.0))
+    v_hat = (ahead**2 + left**2) * ratio / dt
+    w_hat = 2.0 * half / dt
+    gamma_hat = angle_diff(thn, th + 2.0 * half) / dt
+    return v_hat, w_hat, np.asarray(gamma_hat), half
+
+
+def _velocity_jacobian_abs(v_hat, half, dt):
+    r"""``|det ∂(x', y', θ') / ∂(v̂, ω̂, γ̂)|`` for the velocity model.
+
+    :math:`\Delta t \cdot |\hat v| \Delta t^3 (1 - \cos\hat\omega\Delta t) /
+    (\hat\omega\Delta t)^2 = \tfrac12 |\hat v| \Delta t^4\,
+    \mathrm{sinc}^2(\hat\omega\Delta t / 2)`.
+    """
+    return 0.5 * np.abs(v_hat) * dt**4 * np.sinc(half / np.pi) ** 2
+
+
+def _divide_by_jacobian(p, jac):
+    safe = np.where(jac > 0, jac, 1.0)
+    return np.where(jac > 0, p / safe, np.where(p > 0, np.inf, 0.0))
+
+
+def motion_model_velocity(
+    x_t,
+    u_t,
+    x_prev,
+    dt,
+    alpha,
+    *,
+    prob: Callable = prob_normal_distribution,
+    noise: str = "variance",
+    density: str = "book",
+):
+    r"""Return :math:`p(x_t \mid u_t, x_{t-1})` of the velocity motion model.
+
+    *Probabilistic Robotics*, Table 5.1. The table recovers the noisy velocities
+    :math:`(\hat v, \hat\omega)` of the circular arc from :math:`x_{t-1}` to
+    :math:`x_t` and the final rotation :math:`\hat\gamma`, and returns
+
+    .. math::
+        \mathrm{prob}(v - \hat v,\ \alpha_1 v^2 + \alpha_2\omega^2)\,
+        \mathrm{prob}(\omega - \hat\omega,\ \alpha_3 v^2 + \alpha_4\omega^2)\,
+        \mathrm{prob}(\hat\gamma,\ \alpha_5 v^2 + \alpha_6\omega^2).
+
+    Corrections to the deck ``000`` and the Turkish deck (see the errata page):
+    :math:`\Delta\theta` and :math:`\hat\gamma` use wrapped angle differences; the
+    radius is signed, so :math:`\hat v` is right for right turns and reversing (the
+    unsigned :math:`r^*` flips it); straight-line motion, where :math:`\mu` divides by
+    zero, gives its finite limit; :math:`\hat\gamma` subtracts :math:`\hat\omega`, not
+    :math:`\omega`.
+
+    Parameters
+    ----------
+    x_t : array_like, shape (..., 3)
+        Hypothesised poses :math:`(x', y', \theta')`.
+    u_t : array_like, shape (..., 2)
+        Commanded :math:`(v, \omega)` in m/s and rad/s.
+    x_prev : array_like, shape (..., 3)
+        Previous poses :math:`(x, y, \theta)`.
+    dt : float
+        Time step in s, > 0.
+    alpha : array_like, shape (6,)
+        Noise parameters :math:`\alpha_1 \ldots \alpha_6 \ge 0`.
+    prob : callable, optional
+        ``prob(a, b2)``, a zero-mean density with variance ``b2`` (Table 5.2), e.g.
+        :func:`~probrob.distributions.prob_triangular_distribution`.
+    noise : {"variance", "std"}, optional
+        Whether :math:`\alpha_1 v^2 + \alpha_2\omega^2` is a variance (default) or
+        :math:`\alpha_1|v| + \alpha_2|\omega|` a standard deviation.
+    density : {"book", "pose"}, optional
+        ``"book"`` returns the table's value, a density over
+        :math:`(\hat v, \hat\omega, \hat\gamma)`. ``"pose"`` divides it by
+        :math:`|\partial(x', y', \theta') / \partial(\hat v, \hat\omega, \hat\gamma)| =
+        \tfrac12 |\hat v| \Delta t^4 \mathrm{sinc}^2(\hat\omega\Delta t / 2)`, giving a
+        density over poses (units 1/(m² rad)) that integrates to one (up to the mass of
+        turns beyond :math:`\pm\pi` per step, which the table folds back). It is
+        infinite where :math:`x', y' = x, y` and the book value is positive.
+
+    Returns
+    -------
+    p : float or ndarray, shape broadcast(...)
+        Density values.
+    """
+    x_t = check.poses(x_t, "x_t")
+    u_t = check.vectors(u_t, "u_t", 2, "v, omega")
+    x_prev = check.poses(x_prev, "x_prev")
+    dt = check.positive_scalar(dt, "dt")
+    alpha = check.alphas(alpha, "alpha", 6)
+    check.callable_arg(prob, "prob")
+    check.choice(noise, "noise", _NOISE_FORMS)
+    check.choice(density, "density", _DENSITIES)
+
+    v, w, var_v, var_w, var_g = _velocity_controls(alpha, u_t, noise)
+    v_hat, w_hat, gamma_hat, half = _invert_velocity(x_t, x_prev, dt)
+    p = prob(v - v_hat, var_v) * prob(w - w_hat, var_w) * prob(gamma_hat, var_g)
+    if density == "pose":
+        p = _divide_by_jacobian(p, _velocity_jacobian_abs(v_hat, half, dt))
+    return check.scalar_or_array(p)
+
+
+def sample_motion_model_velocity(
+    u_t,
+    x_prev,
+    dt,
+    alpha,
+    *,
+    sample: Callable = sample_normal_distribution,
+    noise: str = "variance",
+    size=None,
+    rng=None,
+):
+    r"""Draw poses :math:`x_t \sim p(x_t \mid u_t, x_{t-1})` of the velocity motion model.
+
+    *Probabilistic Robotics*, Table 5.3:
+
+    .. math::
+        \hat v = v + \mathrm{sample}(\alpha_1 v^2 + \alpha_2\omega^2),\quad
+        \hat\omega = \omega + \mathrm{sample}(\alpha_3 v^2 + \alpha_4\omega^2),\quad
+        \hat\gamma = \mathrm{sample}(\alpha_5 v^2 + \alpha_6\omega^2),
+
+    then the arc of :func:`velocity_motion` with :math:`(\hat v, \hat\omega)` and a
+    final turn :math:`\theta' \mathrel{+}= \hat\gamma\Delta t`. The arc is evaluated in
+    chord form, exact when a sampled :math:`\hat\omega` is zero (the printed
+    :math:`\hat v / \hat\omega` divides by zero there).
+
+    Parameters
+    ----------
+    u_t : array_like, shape (..., 2)
+        Commanded :math:`(v, \omega)` in m/s and rad/s.
+    x_prev : array_like, shape (..., 3)
+        Previous poses, e.g. a particle set of shape ``(N, 3)``.
+    dt : float
+        Time step in s, > 0.
+    alpha : array_like, shape (6,)
+        Noise parameters :math:`\alpha_1 \ldots \alpha_6 \ge 0`.
+    sample : callable, optional
+        ``sample(b2, size=..., rng=...)``, a zero-mean sampler with variance ``b2``
+        (Table 5.4); default the book's sum of twelve uniforms. Pass
+        ``functools.partial(sample_normal_distribution, method="exact")`` for exact
+        normal noise.
+    noise : {"variance", "std"}, optional
+        See :func:`motion_model_velocity`.
+    size : int or tuple of ints, optional
+        Shape of the batch of samples; the batch shape of ``u_t`` and ``x_prev`` must
+        broadcast to it. Default: that batch shape (one sample per particle).
+    rng : None, int or numpy.random.Generator, optional
+        Source of randomness.
+
+    Returns
+    -------
+    x_t : ndarray, shape size + (3,)
+        Sampled poses; :math:`\theta'` is not wrapped.
+    """
+    u_t = check.vectors(u_t, "u_t", 2, "v, omega")
+    x_prev = check.poses(x_prev, "x_prev")
+    dt = check.positive_scalar(dt, "dt")
+    alpha = check.alphas(alpha, "alpha", 6)
+    check.callable_arg(sample, "sample")
+    check.choice(noise, "noise", _NOISE_FORMS)
+    shape = check.output_shape(np.broadcast_shapes(u_t.shape[:-1], x_prev.shape[:-1]), size)
+    rng = np.random.default_rng(rng)
+
+    v, w, var_v, var_w, var_g = _velocity_controls(alpha, u_t, noise)
+    v_hat = v + sample(np.broadcast_to(var_v, shape), size=shape, rng=rng)
+    w_hat = w + sample(np.broadcast_to(var_w, shape), size=shape, rng=rng)
+    gamma_hat = sample(np.broadcast_to(var_g, shape), size=shape, rng=rng)
+    x, y, th = _unpack(x_prev)
+    xn, yn, thn = _arc(x, y, th, v_hat, w_hat, dt)
+    out = np.empty((*shape, 3))
+    out[..., 0] = xn
+    out[..., 1] = yn
+    out[..., 2] = thn + gamma_hat * dt
+    return out
+
+
+# --------------------------------------------------------------------------- odometry
+
+
+def _deltas(prev: np.ndarray, new: np.ndarray):
+    x, y, th = _unpack(prev)
+    xn, yn, thn = _unpack(new)
+    dx, dy = xn - x, yn - y
+    trans = np.hypot(dx, dy)
+    # With no translation the direction of travel is undefined; the whole turn is
+    # then δrot2 (δrot1 = 0), the exact limit of a pure rotation in place.
+    rot1 = np.where(trans > 0, angle_diff(np.arctan2(dy, dx), th), 0.0)
+    rot2 = angle_diff(thn - th, rot1)
+    return np.asarray(rot1), trans, np.asarray(rot2)
+
+
+def odometry_deltas(xbar_prev, xbar_t):
+    r"""Return :math:`(\delta_{rot1}, \delta_{trans}, \delta_{rot2})` between two poses.
+
+    *Probabilistic Robotics*, Table 5.5, lines 2–4 (and Table 5.6, lines 2–4):
+
+    .. math::
+        \delta_{rot1} = \mathrm{atan2}(\bar y' - \bar y, \bar x' - \bar x) - \bar\theta,\quad
+        \delta_{trans} = \sqrt{(\bar x' - \bar x)^2 + (\bar y' - \bar y)^2},\quad
+        \delta_{rot2} = \bar\theta' - \bar\theta - \delta_{rot1},
+
+    with both rotations wrapped to :math:`[-\pi, \pi)` (the decks leave them unwrapped,
+    so a heading near :math:`\pm\pi` can yield a rotation near :math:`2\pi`). With
+    zero translation, :math:`\delta_{rot1} = 0` and the turn is all :math:`\delta_{rot2}`.
+
+    Parameters
+    ----------
+    xbar_prev, xbar_t : array_like, shape (..., 3)
+        Consecutive poses (e.g. odometry readings) :math:`\bar x_{t-1}, \bar x_t`.
+
+    Returns
+    -------
+    rot1, trans, rot2 : float or ndarray, shape broadcast(...)
+        Rotations in rad, translation :math:`\ge 0` in the poses' length unit.
+    """
+    xbar_prev = check.poses(xbar_prev, "xbar_prev")
+    xbar_t = check.poses(xbar_t, "xbar_t")
+    return tuple(check.scalar_or_array(d) for d in _deltas(xbar_prev, xbar_t))
+
+
+def _odometry_control(u_t) -> tuple[np.ndarray, ...]:
+    u_t = check.finite(u_t, "u_t")
+    if u_t.ndim < 2 or u_t.shape[-2:] != (2, 3):
+        raise ValueError(
+            "u_t must have shape (..., 2, 3): the odometry poses (xbar_{t-1}, xbar_t), "
+            f"got shape {u_t.shape}"
+        )
+    return _deltas(u_t[..., 0, :], u_t[..., 1, :])
+
+
+def _odometry_variances(alpha, rot1, trans, rot2, noise):
+    a1, a2, a3, a4 = alpha
+    return (
+        _noise_variance(a1, a2, rot1, trans, noise),
+        _noise_variance(a3, a4, trans, rot1, noise, a4, rot2),
+        _noise_variance(a1, a2, rot2, trans, noise),
+    )
+
+
+def motion_model_odometry(
+    x_t,
+    u_t,
+    x_prev,
+    alpha,
+    *,
+    prob: Callable = prob_normal_distribution,
+    noise: str = "variance",
+    density: str = "book",
+):
+    r"""Return :math:`p(x_t \mid u_t, x_{t-1})` of the odometry motion model.
+
+    *Probabilistic Robotics*, Table 5.5. With :math:`\delta` the rotations and
+    translation of the odometry :math:`u_t = (\bar x_{t-1}, \bar x_t)` and
+    :math:`\hat\delta` those from :math:`x_{t-1}` to :math:`x_t`
+    (:func:`odometry_deltas`), the table returns
+
+    .. math::
+        \mathrm{prob}(\delta_{rot1} - \hat\delta_{rot1},\ \alpha_1\hat\delta_{rot1}^2 + \alpha_2\hat\delta_{trans}^2)\,
+        \mathrm{prob}(\delta_{trans} - \hat\delta_{trans},\ \alpha_3\hat\delta_{trans}^2 + \alpha_4(\hat\delta_{rot1}^2 + \hat\delta_{rot2}^2))\,
+        \mathrm{prob}(\delta_{rot2} - \hat\delta_{rot2},\ \alpha_1\hat\delta_{rot2}^2 + \alpha_2\hat\delta_{trans}^2)
+
+    with the rotation differences wrapped to :math:`[-\pi, \pi)` (the decks do not
+    wrap them).
+
+    Parameters
+    ----------
+    x_t : array_like, shape (..., 3)
+        Hypothesised poses :math:`(x', y', \theta')`.
+    u_t : array_like, shape (..., 2, 3)
+        Odometry readings :math:`(\bar x_{t-1}, \bar x_t)`.
+    x_prev : array_like, shape (..., 3)
+        Previous poses :math:`(x, y, \theta)`.
+    alpha : array_like, shape (4,)
+        Noise parameters :math:`\alpha_1 \ldots \alpha_4 \ge 0`.
+    prob : callable, optional
+        ``prob(a, b2)``, a zero-mean density with variance ``b2`` (Table 5.2).
+    noise : {"variance", "std"}, optional
+        Whether :math:`\alpha_1\delta_{rot1}^2 + \alpha_2\delta_{trans}^2` is a variance
+        (default) or :math:`\alpha_1|\delta_{rot1}| + \alpha_2\delta_{trans}` a standard
+        deviation.
+    density : {"book", "pose"}, optional
+        ``"book"``: Table 5.5 as printed; its variances are evaluated at the
+        hypothesis :math:`\hat\delta`. ``"pose"``: the density over
+        :math:`(x', y', \theta')` of the sampler, Table 5.6, whose variances are
+        evaluated at the odometry :math:`\delta`, divided by the Jacobian
+        :math:`|\partial(x', y', \theta') / \partial(\hat\delta_{rot1}, \hat\delta_{trans},
+        \hat\delta_{rot2})| = \hat\delta_{trans}`. It integrates to one (up to the mass
+        of negative sampled translations); the book's value does not, because its
+        variances move with the hypothesis (see the errata page). Units 1/(m² rad);
+        infinite where :math:`x', y' = x, y` and the density is positive.
+
+    Returns
+    -------
+    p : float or ndarray, shape broadcast(...)
+        Density values.
+    """
+    x_t = check.poses(x_t, "x_t")
+    rot1, trans, rot2 = _odometry_control(u_t)
+    x_prev = check.poses(x_prev, "x_prev")
+    alpha = check.alphas(alpha, "alpha", 4)
+    check.callable_arg(prob, "prob")
+    check.choice(noise, "noise", _NOISE_FORMS)
+    check.choice(density, "density", _DENSITIES)
+
+    rot1_hat, trans_hat, rot2_hat = _deltas(x_prev, x_t)
+    if density == "book":
+        var1, var_t, var2 = _odometry_variances(alpha, rot1_hat, trans_hat, rot2_hat, noise)
+    else:
+        var1, var_t, var2 = _odometry_variances(alpha, rot1, trans, rot2, noise)
+    p = (
+        prob(angle_diff(rot1, rot1_hat), var1)
+        * prob(trans - trans_hat, var_t)
+        * prob(angle_diff(rot2, rot2_hat), var2)
+    )
+    if density == "pose":
+        p = _divide_by_jacobian(p, trans_hat)
+    return check.scalar_or_array(p)
+
+
+def sample_motion_model_odometry(
+    u_t,
+    x_prev,
+    alpha,
+    *,
+    sample: Callable = sample_normal_distribution,
+    noise: str = "variance",
+    size=None,
+    rng=None,
+):
+    r"""Draw poses :math:`x_t \sim p(x_t \mid u_t, x_{t-1})` of the odometry motion model.
+
+    *Probabilistic Robotics*, Table 5.6:
+
+    .. math::
+        \hat\delta_{rot1} = \delta_{rot1} - \mathrm{sample}(\alpha_1\delta_{rot1}^2 + \alpha_2\delta_{trans}^2),\\
+        \hat\delta_{trans} = \delta_{trans} - \mathrm{sample}(\alpha_3\delta_{trans}^2 + \alpha_4(\delta_{rot1}^2 + \delta_{rot2}^2)),\\
+        \hat\delta_{rot2} = \delta_{rot2} - \mathrm{sample}(\alpha_1\delta_{rot2}^2 + \alpha_2\delta_{trans}^2),\\
+        x' = x + \hat\delta_{trans}\cos(\theta + \hat\delta_{rot1}),\quad
+        y' = y + \hat\delta_{trans}\sin(\theta + \hat\delta_{rot1}),\quad
+        \theta' = \theta + \hat\delta_{rot1} + \hat\delta_{rot2}.
+
+    The motion is applied from the robot's own heading :math:`\theta`, not the
+    odometry frame's :math:`\bar\theta` (the Turkish deck uses :math:`\bar\theta`),
+    and the :math:`\delta` come from :func:`odometry_deltas` (wrapped rotations).
+
+    Parameters
+    ----------
+    u_t : array_like, shape (..., 2, 3)
+        Odometry readings :math:`(\bar x_{t-1}, \bar x_t)`.
+    x_prev : array_like, shape (..., 3)
+        Previous poses, e.g. a particle set of shape ``(N, 3)``.
+    alpha : array_like, shape (4,)
+        Noise parameters :math:`\alpha_1 \ldots \alpha_4 \ge 0`.
+    sample : callable, optional
+        ``sample(b2, size=..., rng=...)``, a zero-mean sampler with variance ``b2``.
+    noise : {"variance", "std"}, optional
+        See :func:`motion_model_odometry`.
+    size : int or tuple of ints, optional
+        Shape of the batch of samples (see :func:`sample_motion_model_velocity`).
+    rng : None, int or numpy.random.Generator, optional
+        Source of randomness.
+
+    Returns
+    -------
+    x_t : ndarray, shape size + (3,)
+        Sampled poses; :math:`\theta'` is not wrapped.
+    """
+    rot1, trans, rot2 = _odometry_control(u_t)
+    x_prev = check.poses(x_prev, "x_prev")
+    alpha = check.alphas(alpha, "alpha", 4)
+    check.callable_arg(sample, "sample")
+    check.choice(noise, "noise", _NOISE_FORMS)
+    shape = check.output_shape(np.broadcast_shapes(rot1.shape, x_prev.shape[:-1]), size)
+    rng = np.random.default_rng(rng)
+
+    var1, var_t, var2 = _odometry_variances(alpha, rot1, trans, rot2, noise)
+    rot1_hat = rot1 - sample(np.broadcast_to(var1, shape), size=shape, rng=rng)
+    trans_hat = trans - sample(np.broadcast_to(var_t, shape), size=shape, rng=rng)
+    rot2_hat = rot2 - sample(np.broadcast_to(var2, shape), size=shape, rng=rng)
+    x, y, th = _unpack(x_prev)
+    heading = th + rot1_hat
+    out = np.empty((*shape, 3))
+    out[..., 0] = x + trans_hat * np.cos(heading)
+    out[..., 1] = y + trans_hat * np.sin(heading)
+    out[..., 2] = heading + rot2_hat
+    return out
