@@ -38,9 +38,7 @@ def vectors(value, name: str, length: int, what: str) -> np.ndarray:
     """Return a finite array whose last axis has ``length`` entries."""
     arr = finite(value, name)
     if arr.ndim == 0 or arr.shape[-1] != length:
-        raise ValueError(
-            f"{name} must have shape (..., {length}) ({what}), got shape {arr.shape}"
-        )
+        raise ValueError(f"{name} must have shape (..., {length}) ({what}), got shape {arr.shape}")
     return arr
 
 
