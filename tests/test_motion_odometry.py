@@ -230,6 +230,17 @@ def test_pose_density_integrates_to_one_and_matches_the_sampler(case, grid3, chi
     )
     assert grid.integrate(values) == pytest.approx(1.0, abs=1e-3)
     assert chi_square(samples, values, grid) > P_MIN
+    # density="xy" is the pose density integrated over θ' (Fig. 5.3 / 5.7)
+    xy = motion_model_odometry(
+        grid.points[:, :, 0, :2],
+        c["u"],
+        X0,
+        c["alpha"],
+        prob=c["prob"],
+        noise=c["noise"],
+        density="xy",
+    )
+    np.testing.assert_allclose(values.sum(axis=2) * grid.step[2], xy, atol=1e-3 * xy.max())
 
 
 def test_book_density_is_the_pose_density_times_the_jacobian_where_variances_agree():

@@ -291,6 +291,11 @@ def test_pose_density_integrates_to_one_and_matches_the_sampler(case, grid3, chi
     )
     assert grid.integrate(values) == pytest.approx(1.0, abs=1e-3)
     assert chi_square(samples, values, grid) > P_MIN
+    # density="xy" is the pose density integrated over θ' (Fig. 5.3 / 5.7)
+    xy = motion_model_velocity(
+        grid.points[:, :, 0, :2], c["u"], X0, 1.0, c["alpha"], prob=c["prob"], density="xy", **kw
+    )
+    np.testing.assert_allclose(values.sum(axis=2) * grid.step[2], xy, atol=1e-3 * xy.max())
 
 
 def test_sampler_noise_variables_have_the_table_variances():

@@ -52,7 +52,7 @@ __all__ = [
 ]
 
 _NOISE_FORMS = ("variance", "std")
-_DENSITIES = ("book", "pose")
+_DENSITIES = ("book", "pose", "xy")
 
 
 # --------------------------------------------------------------------------- helpers
@@ -184,6 +184,21 @@ def _velocity_jacobian_abs(v_hat, half, dt):
     return 0.5 * np.abs(v_hat) * dt**4 * np.sinc(half / np.pi) ** 2
 
 
+def _hypotheses(x_t, x_prev, density: str) -> np.ndarray:
+    """Check ``x_t``; for ``density="xy"`` positions ``(..., 2)`` get a dummy heading."""
+    if density != "xy":
+        return check.poses(x_t, "x_t")
+    x_t = check.finite(x_t, "x_t")
+    if x_t.ndim == 0 or x_t.shape[-1] not in (2, 3):
+        raise ValueError(
+            f"x_t must have shape (..., 3) or, for density='xy', (..., 2); got {x_t.shape}"
+        )
+    if x_t.shape[-1] == 3:
+        return x_t
+    x, y = _unpack(x_t)
+    return _stack(x, y, _unpack(x_prev)[2])
+
+
 def _divide_by_jacobian(p, jac):
     safe = np.where(jac > 0, jac, 1.0)
     return np.where(jac > 0, p / safe, np.where(p > 0, np.inf, 0.0))
@@ -236,7 +251,7 @@ def motion_model_velocity(
     noise : {"variance", "std"}, optional
         Whether :math:`\alpha_1 v^2 + \alpha_2\omega^2` is a variance (default) or
         :math:`\alpha_1|v| + \alpha_2|\omega|` a standard deviation.
-    density : {"book", "pose"}, optional
+    density : {"book", "pose", "xy"}, optional
         ``"book"`` returns the table's value, a density over
         :math:`(\hat v, \hat\omega, \hat\gamma)`. ``"pose"`` divides it by
         :math:`|\partial(x', y', \theta') / \partial(\hat v, \hat\omega, \hat\gamma)| =
@@ -244,24 +259,34 @@ def motion_model_velocity(
         density over poses (units 1/(m² rad)) that integrates to one (up to the mass of
         turns beyond :math:`\pm\pi` per step, which the table folds back). It is
         infinite where :math:`x', y' = x, y` and the book value is positive.
+        ``"xy"``: the pose density integrated over :math:`\theta'` (the book's
+        Fig. 5.3 "projected into x-y space"), in 1/m²; the heading of ``x_t`` is
+        ignored and ``x_t`` may be positions of shape ``(..., 2)``. The factor of
+        :math:`\hat\gamma` integrates to one over :math:`\theta'`, leaving
+        :math:`\mathrm{prob}(v - \hat v)\,\mathrm{prob}(\omega - \hat\omega) /
+        (\tfrac12 |\hat v| \Delta t^3 \mathrm{sinc}^2(\hat\omega\Delta t / 2))`.
 
     Returns
     -------
     p : float or ndarray, shape broadcast(...)
         Density values.
     """
-    x_t = check.poses(x_t, "x_t")
-    u_t = check.vectors(u_t, "u_t", 2, "v, omega")
     x_prev = check.poses(x_prev, "x_prev")
+    check.choice(density, "density", _DENSITIES)
+    x_t = _hypotheses(x_t, x_prev, density)
+    u_t = check.vectors(u_t, "u_t", 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
     alpha = check.alphas(alpha, "alpha", 6)
     check.callable_arg(prob, "prob")
     check.choice(noise, "noise", _NOISE_FORMS)
-    check.choice(density, "density", _DENSITIES)
 
     v, w, var_v, var_w, var_g = _velocity_controls(alpha, u_t, noise)
     v_hat, w_hat, gamma_hat, half = _invert_velocity(x_t, x_prev, dt)
-    p = prob(v - v_hat, var_v) * prob(w - w_hat, var_w) * prob(gamma_hat, var_g)
+    p = prob(v - v_hat, var_v) * prob(w - w_hat, var_w)
+    if density == "xy":  # ∫ prob(γ̂) dθ' = Δt, one factor Δt of the Jacobian
+        p = _divide_by_jacobian(p, _velocity_jacobian_abs(v_hat, half, dt) / dt)
+    else:
+        p = p * prob(gamma_hat, var_g)
     if density == "pose":
         p = _divide_by_jacobian(p, _velocity_jacobian_abs(v_hat, half, dt))
     return check.scalar_or_array(p)
@@ -446,7 +471,7 @@ def motion_model_odometry(
         Whether :math:`\alpha_1\delta_{rot1}^2 + \alpha_2\delta_{trans}^2` is a variance
         (default) or :math:`\alpha_1|\delta_{rot1}| + \alpha_2\delta_{trans}` a standard
         deviation.
-    density : {"book", "pose"}, optional
+    density : {"book", "pose", "xy"}, optional
         ``"book"``: Table 5.5 as printed; its variances are evaluated at the
         hypothesis :math:`\hat\delta`. ``"pose"``: the density over
         :math:`(x', y', \theta')` of the sampler, Table 5.6, whose variances are
@@ -456,31 +481,33 @@ def motion_model_odometry(
         of negative sampled translations); the book's value does not, because its
         variances move with the hypothesis (see the errata page). Units 1/(m² rad);
         infinite where :math:`x', y' = x, y` and the density is positive.
+        ``"xy"``: the ``"pose"`` density integrated over :math:`\theta'` (the book's
+        Fig. 5.7), in 1/m²: :math:`p_1 p_2 / \hat\delta_{trans}`, since :math:`p_3`
+        integrates to one over :math:`\theta'`. ``x_t`` may be positions
+        ``(..., 2)``.
 
     Returns
     -------
     p : float or ndarray, shape broadcast(...)
         Density values.
     """
-    x_t = check.poses(x_t, "x_t")
-    rot1, trans, rot2 = _odometry_control(u_t)
     x_prev = check.poses(x_prev, "x_prev")
+    check.choice(density, "density", _DENSITIES)
+    x_t = _hypotheses(x_t, x_prev, density)
+    rot1, trans, rot2 = _odometry_control(u_t)
     alpha = check.alphas(alpha, "alpha", 4)
     check.callable_arg(prob, "prob")
     check.choice(noise, "noise", _NOISE_FORMS)
-    check.choice(density, "density", _DENSITIES)
 
     rot1_hat, trans_hat, rot2_hat = _deltas(x_prev, x_t)
     if density == "book":
         var1, var_t, var2 = _odometry_variances(alpha, rot1_hat, trans_hat, rot2_hat, noise)
     else:
         var1, var_t, var2 = _odometry_variances(alpha, rot1, trans, rot2, noise)
-    p = (
-        prob(angle_diff(rot1, rot1_hat), var1)
-        * prob(trans - trans_hat, var_t)
-        * prob(angle_diff(rot2, rot2_hat), var2)
-    )
-    if density == "pose":
+    p = prob(angle_diff(rot1, rot1_hat), var1) * prob(trans - trans_hat, var_t)
+    if density != "xy":
+        p = p * prob(angle_diff(rot2, rot2_hat), var2)
+    if density != "book":
         p = _divide_by_jacobian(p, trans_hat)
     return check.scalar_or_array(p)
 
