@@ -15,7 +15,12 @@ from probrob.distributions import (
     sample_normal_distribution,
     sample_triangular_distribution,
 )
-from probrob.motion import motion_model_odometry, odometry_deltas, sample_motion_model_odometry
+from probrob.motion import (
+    apply_odometry_deltas,
+    motion_model_odometry,
+    odometry_deltas,
+    sample_motion_model_odometry,
+)
 
 EXACT = partial(sample_normal_distribution, method="exact")
 ALPHA = np.array([0.05, 0.02, 0.05, 0.02])
@@ -82,6 +87,19 @@ def test_deltas_use_atan2_not_arctan_of_the_ratio():
     rot1 = odometry_deltas(prev, new)[0]
     assert rot1 == pytest.approx(3 * np.pi / 4)
     assert np.arctan((new[1] - prev[1]) / (new[0] - prev[0])) == pytest.approx(-np.pi / 4)
+
+
+@given(
+    rot1=st.floats(-np.pi, np.pi, exclude_max=True),
+    trans=st.floats(0, 10),
+    rot2=st.floats(-np.pi, np.pi, exclude_max=True),
+    th=st.floats(-np.pi, np.pi),
+)
+def test_apply_deltas_is_table_5_6_lines_8_to_10(rot1, trans, rot2, th):
+    start = np.array([0.5, -2.0, th])
+    np.testing.assert_allclose(
+        apply_odometry_deltas(start, rot1, trans, rot2), compose(start, rot1, trans, rot2)
+    )
 
 
 def test_zero_translation_puts_the_whole_turn_in_rot2():
@@ -364,6 +382,8 @@ U = odometry(0.1, 1.0, 0.0)
         (lambda: sample_motion_model_odometry(U, X0, [1, 2]), "alpha"),
         (lambda: odometry_deltas(X0, [1, 2]), "xbar_t"),
         (lambda: odometry_deltas([np.inf, 0, 0], X0), "xbar_prev"),
+        (lambda: apply_odometry_deltas(X0, np.nan, 1.0, 0.0), "rot1"),
+        (lambda: apply_odometry_deltas(X0[:2], 0.0, 1.0, 0.0), "x_prev"),
     ],
 )
 def test_bad_input_raises_value_error_naming_the_argument(call, name):

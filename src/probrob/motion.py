@@ -43,6 +43,7 @@ from .angles import angle_diff
 from .distributions import prob_normal_distribution, sample_normal_distribution
 
 __all__ = [
+    "apply_odometry_deltas",
     "motion_model_odometry",
     "motion_model_velocity",
     "odometry_deltas",
@@ -411,6 +412,41 @@ def odometry_deltas(xbar_prev, xbar_t):
     return tuple(check.scalar_or_array(d) for d in _deltas(xbar_prev, xbar_t))
 
 
+def _apply_deltas(x, y, th, rot1, trans, rot2):
+    heading = th + rot1
+    return x + trans * np.cos(heading), y + trans * np.sin(heading), heading + rot2
+
+
+def apply_odometry_deltas(x_prev, rot1, trans, rot2):
+    r"""Return the pose reached by turning ``rot1``, driving ``trans``, turning ``rot2``.
+
+    *Probabilistic Robotics*, Table 5.6, lines 8–10 (the inverse of
+    :func:`odometry_deltas`):
+
+    .. math::
+        x' = x + \delta_{trans}\cos(	heta + \delta_{rot1}),\quad
+        y' = y + \delta_{trans}\sin(	heta + \delta_{rot1}),\quad
+                heta' = 	heta + \delta_{rot1} + \delta_{rot2}.
+
+    Parameters
+    ----------
+    x_prev : array_like, shape (..., 3)
+        Start poses.
+    rot1, trans, rot2 : array_like, broadcastable with ``x_prev[..., 0]``
+        Rotations in rad and translation in m.
+
+    Returns
+    -------
+    x_t : ndarray, shape broadcast(...) + (3,)
+        End poses; :math:`	heta'` is not wrapped.
+    """
+    x, y, th = _unpack(check.poses(x_prev, "x_prev"))
+    rot1 = check.finite(rot1, "rot1")
+    trans = check.finite(trans, "trans")
+    rot2 = check.finite(rot2, "rot2")
+    return _stack(*_apply_deltas(x, y, th, rot1, trans, rot2))
+
+
 def _odometry_control(u_t) -> tuple[np.ndarray, ...]:
     u_t = check.finite(u_t, "u_t")
     if u_t.ndim < 2 or u_t.shape[-2:] != (2, 3):
@@ -572,10 +608,8 @@ def sample_motion_model_odometry(
     rot1_hat = rot1 - sample(np.broadcast_to(var1, shape), size=shape, rng=rng)
     trans_hat = trans - sample(np.broadcast_to(var_t, shape), size=shape, rng=rng)
     rot2_hat = rot2 - sample(np.broadcast_to(var2, shape), size=shape, rng=rng)
-    x, y, th = _unpack(x_prev)
-    heading = th + rot1_hat
     out = np.empty((*shape, 3))
-    out[..., 0] = x + trans_hat * np.cos(heading)
-    out[..., 1] = y + trans_hat * np.sin(heading)
-    out[..., 2] = heading + rot2_hat
+    out[..., 0], out[..., 1], out[..., 2] = _apply_deltas(
+        *_unpack(x_prev), rot1_hat, trans_hat, rot2_hat
+    )
     return out
