@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import matplotlib
 import numpy as np
 import pytest
 from hypothesis import settings
+
+matplotlib.use("Agg")  # no display in CI
 
 # Property tests must give the same verdict run after run (CI re-runs them).
 settings.register_profile("probrob", derandomize=True, deadline=None, max_examples=200)

@@ -153,6 +153,21 @@ def test_book_formula_agrees_for_left_turns_forward():
         assert motion_model_velocity(x_t, u, X0, 1.0, ALPHA) == pytest.approx(book, rel=1e-9)
 
 
+def test_circle_centre_of_table_5_1_and_the_turkish_sign_error():
+    """Erratum V6: y* = (y + y')/2 + μ(x' - x); the Turkish deck subtracts μ(x̄' - x̄)."""
+    x, y, th = X0
+    for u in ([1.0, 0.5], [1.0, -0.7], [-0.5, 0.9]):
+        xp, yp, _ = velocity_motion(X0, u, 1.0)
+        mu = 0.5 * ((x - xp) * np.cos(th) + (y - yp) * np.sin(th))
+        mu /= (y - yp) * np.cos(th) - (x - xp) * np.sin(th)
+        r = u[0] / u[1]
+        centre = np.array([x - r * np.sin(th), y + r * np.cos(th)])  # of the arc g(u, x)
+        book = np.array([(x + xp) / 2 + mu * (y - yp), (y + yp) / 2 + mu * (xp - x)])
+        turkish = np.array([(x + xp) / 2 - mu * (yp - y), (y + yp) / 2 - mu * (xp - x)])
+        np.testing.assert_allclose(book, centre, atol=1e-12)
+        assert np.hypot(*(turkish - centre)) > 0.1
+
+
 def test_unsigned_radius_of_the_decks_flips_v_for_right_turns():
     """Erratum V1: with r* ≥ 0, v̂ = Δθ r*/Δt has the sign of ω, so a right turn gives -v."""
     u = [1.0, -0.5]

@@ -1,0 +1,272 @@
+r"""Sliders for Jupyter and kernel-free players for the static book.
+
+* :func:`velocity_model_explorer`, :func:`odometry_model_explorer` — live
+  ``ipywidgets`` sliders for every :math:`\alpha`, the motion, the noise distribution
+  and the noise form. They need a running kernel: in the HTML book they do nothing,
+  so chapters hide their output there and show players instead.
+* :func:`alpha_player` — a ``matplotlib.animation.FuncAnimation`` rendered with
+  ``to_jshtml()``: a self-contained HTML/JavaScript player (frames are embedded PNGs)
+  that sweeps one :math:`\alpha` and works offline, without a kernel.
+
+The callbacks are thin: they call :func:`probrob.plotting.plot_motion_model`, which
+calls the models. ``ipywidgets`` and ``IPython`` are imported only when used.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _validation as check
+from .plotting import DISTRIBUTIONS, motion_extent, motion_samples, plot_motion_model
+
+__all__ = ["alpha_player", "odometry_model_explorer", "velocity_model_explorer"]
+
+
+def _slider(description, value, lo, hi, step, fmt=".3f"):
+    import ipywidgets as w
+
+    return w.FloatSlider(
+        value=value,
+        min=lo,
+        max=hi,
+        step=step,
+        description=description,
+        continuous_update=False,
+        readout_format=fmt,
+        style={"description_width": "initial"},
+    )
+
+
+def _common_controls(distribution, noise):
+    import ipywidgets as w
+
+    return {
+        "distribution": w.Dropdown(
+            options=list(DISTRIBUTIONS), value=distribution, description="noise distribution"
+        ),
+        "noise": w.ToggleButtons(
+            options=[("α·m² is a variance", "variance"), ("α·|m| is a std", "std")],
+            value=noise,
+            description="noise form",
+        ),
+    }
+
+
+def _explorer(controls: dict, draw, columns: list[list[str]]):
+    """Lay out ``controls`` in ``columns`` above one figure that ``draw(ax, **values)`` fills."""
+    import ipywidgets as w
+    import matplotlib.pyplot as plt
+    from IPython.display import display
+
+    out = w.Output()
+
+    def redraw(**values):
+        fig, ax = plt.subplots(figsize=(6.4, 5.2))
+        draw(ax, **values)
+        fig.tight_layout()
+        with out:
+            out.clear_output(wait=True)
+            display(fig)
+        plt.close(fig)
+
+    w.interactive_output(redraw, controls)
+    boxes = [w.VBox([controls[name] for name in column]) for column in columns]
+    return w.VBox([w.HBox(boxes), out])
+
+
+def velocity_model_explorer(
+    *,
+    x_prev=(0.0, 0.0, 0.0),
+    v=1.0,
+    w=0.5,
+    dt=1.0,
+    alpha=(0.02, 0.02, 0.02, 0.02, 0.02, 0.02),
+    distribution="normal (12 uniforms)",
+    noise="variance",
+    n_samples=500,
+    rng=0,
+):
+    r"""Return live sliders for the velocity motion model (Tables 5.1 and 5.3).
+
+    Sliders: :math:`\alpha_1 \ldots \alpha_6`, :math:`v` (m/s), :math:`\omega` (rad/s)
+    and :math:`\Delta t` (s); a menu for the noise distribution and buttons for the
+    noise form. The figure shows :func:`~probrob.plotting.plot_motion_model`.
+
+    Returns
+    -------
+    widget : ipywidgets.VBox
+        Display it as the last expression of a cell.
+    """
+    alpha = check.alphas(alpha, "alpha", 6)
+    x_prev = check.poses(x_prev, "x_prev")
+    controls = {f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005) for k in range(6)}
+    controls |= {
+        "v": _slider("v [m/s]", v, -2.0, 2.0, 0.05, ".2f"),
+        "w": _slider("ω [rad/s]", w, -2.0, 2.0, 0.05, ".2f"),
+        "dt": _slider("Δt [s]", dt, 0.1, 3.0, 0.1, ".1f"),
+    }
+    controls |= _common_controls(distribution, noise)
+
+    def draw(ax, a1, a2, a3, a4, a5, a6, v, w, dt, distribution, noise):
+        plot_motion_model(
+            "velocity",
+            [v, w],
+            x_prev,
+            [a1, a2, a3, a4, a5, a6],
+            dt=dt,
+            distribution=distribution,
+            noise=noise,
+            n_samples=n_samples,
+            rng=rng,
+            ax=ax,
+            title=f"velocity model: v = {v:.2f} m/s, ω = {w:.2f} rad/s, Δt = {dt:.1f} s",
+        )
+
+    columns = [["a1", "a2", "a3", "a4", "a5", "a6"], ["v", "w", "dt", "distribution", "noise"]]
+    return _explorer(controls, draw, columns)
+
+
+def odometry_model_explorer(
+    *,
+    x_prev=(0.0, 0.0, 0.0),
+    rot1=0.4,
+    trans=1.0,
+    rot2=-0.3,
+    alpha=(0.05, 0.005, 0.05, 0.005),
+    distribution="normal (12 uniforms)",
+    noise="variance",
+    n_samples=500,
+    rng=0,
+):
+    r"""Return live sliders for the odometry motion model (Tables 5.5 and 5.6).
+
+    Sliders: :math:`\alpha_1 \ldots \alpha_4` and the odometry's own motion
+    :math:`\delta_{rot1}, \delta_{trans}, \delta_{rot2}`; the robot starts at
+    ``x_prev`` and the odometry frame at the origin.
+
+    Returns
+    -------
+    widget : ipywidgets.VBox
+    """
+    from .motion import apply_odometry_deltas
+
+    alpha = check.alphas(alpha, "alpha", 4)
+    x_prev = check.poses(x_prev, "x_prev")
+    controls = {f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005) for k in range(4)}
+    controls |= {
+        "rot1": _slider("δrot1 [rad]", rot1, -3.1, 3.1, 0.05, ".2f"),
+        "trans": _slider("δtrans [m]", trans, 0.0, 3.0, 0.05, ".2f"),
+        "rot2": _slider("δrot2 [rad]", rot2, -3.1, 3.1, 0.05, ".2f"),
+    }
+    controls |= _common_controls(distribution, noise)
+    origin = np.zeros(3)
+
+    def draw(ax, a1, a2, a3, a4, rot1, trans, rot2, distribution, noise):
+        u_t = np.stack([origin, apply_odometry_deltas(origin, rot1, trans, rot2)])
+        plot_motion_model(
+            "odometry",
+            u_t,
+            x_prev,
+            [a1, a2, a3, a4],
+            distribution=distribution,
+            noise=noise,
+            n_samples=n_samples,
+            rng=rng,
+            ax=ax,
+            title=f"odometry model: δ = ({rot1:.2f} rad, {trans:.2f} m, {rot2:.2f} rad)",
+        )
+
+    columns = [["a1", "a2", "a3", "a4"], ["rot1", "trans", "rot2", "distribution", "noise"]]
+    return _explorer(controls, draw, columns)
+
+
+def alpha_player(
+    model,
+    index,
+    values,
+    *,
+    alpha,
+    u_t,
+    x_prev=(0.0, 0.0, 0.0),
+    dt=1.0,
+    n_samples=400,
+    grid=120,
+    rng=0,
+    figsize=(5.0, 4.4),
+    dpi=72,
+    interval=700,
+    **plot_kw,
+):
+    r"""Return a kernel-free player that sweeps :math:`\alpha_{index}` over ``values``.
+
+    Each frame is :func:`~probrob.plotting.plot_motion_model` with one noise
+    parameter replaced; all frames share one plot box, so they are comparable. The
+    player is ``FuncAnimation(...).to_jshtml()``: self-contained HTML and JavaScript
+    with the frames embedded as PNG, which runs offline in any browser.
+
+    Parameters
+    ----------
+    model : {"velocity", "odometry"}
+    index : int
+        Which :math:`\alpha` to sweep, 1-based as in the book.
+    values : array_like, shape (F,)
+        Its value in each of the F frames.
+    alpha : array_like, shape (6,) or (4,)
+        The other noise parameters.
+    u_t, x_prev, dt
+        As for :func:`~probrob.plotting.plot_motion_model`.
+    n_samples, grid, rng, figsize, dpi, interval
+        Samples per frame, density grid, seed, figure size (in), resolution, and
+        milliseconds per frame.
+    **plot_kw
+        Passed on to :func:`~probrob.plotting.plot_motion_model` (``distribution``,
+        ``noise``).
+
+    Returns
+    -------
+    player : IPython.display.HTML
+    """
+    import matplotlib.pyplot as plt
+    from IPython.display import HTML
+    from matplotlib.animation import FuncAnimation
+
+    alpha = check.finite(alpha, "alpha")
+    values = check.finite(values, "values")
+    if values.ndim != 1 or values.size == 0 or np.any(values < 0):
+        raise ValueError("values must be a non-empty 1-D sequence of non-negative numbers")
+    if not (isinstance(index, int | np.integer) and 1 <= index <= alpha.size):
+        raise ValueError(f"index must be an integer in 1..{alpha.size}, got {index!r}")
+    frames = []
+    for value in values:
+        a = alpha.copy()
+        a[index - 1] = value
+        frames.append(a)
+    common = {"dt": dt, "distribution": plot_kw.get("distribution", "normal (12 uniforms)")}
+    common["noise"] = plot_kw.get("noise", "variance")
+    clouds = [
+        motion_samples(model, u_t, x_prev, a, n=n_samples, rng=rng, **common) for a in frames
+    ]
+    extent = motion_extent(np.concatenate([c for c, _ in clouds]), include=[x_prev, clouds[0][1]])
+    fig, ax = plt.subplots(figsize=figsize, dpi=dpi)
+
+    def draw(k):
+        ax.clear()
+        plot_motion_model(
+            model,
+            u_t,
+            x_prev,
+            frames[k],
+            n_samples=n_samples,
+            grid=grid,
+            extent=extent,
+            rng=rng,
+            ax=ax,
+            title=f"{model} model, α{index} = {values[k]:.3g}",
+            **common,
+        )
+        fig.tight_layout()
+
+    anim = FuncAnimation(fig, draw, frames=len(frames), interval=interval)
+    html = anim.to_jshtml(default_mode="once")
+    plt.close(fig)
+    return HTML(html)
