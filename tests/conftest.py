@@ -10,7 +10,9 @@ from hypothesis import settings
 matplotlib.use("Agg")  # no display in CI
 
 # Property tests must give the same verdict run after run (CI re-runs them).
-settings.register_profile("probrob", derandomize=True, deadline=None, max_examples=200)
+settings.register_profile(
+    "probrob", derandomize=True, database=None, deadline=None, max_examples=200
+)
 settings.load_profile("probrob")
 
 

@@ -17,6 +17,11 @@ def test_wrap_is_in_half_open_interval_and_equivalent(theta):
     assert abs(turns - round(turns)) < 1e-9 * max(1.0, abs(turns))
 
 
+def test_wrap_leaves_angles_in_range_untouched():
+    inside = np.array([np.nextafter(np.pi, 0), -np.pi, 0.1, -3.0, 1e-300])
+    np.testing.assert_array_equal(wrap_angle(inside), inside)
+
+
 def test_wrap_boundaries():
     assert wrap_angle(np.pi) == -np.pi
     assert wrap_angle(-np.pi) == -np.pi

@@ -34,9 +34,13 @@ def wrap_angle(theta):
         ``π`` itself maps to ``-π``.
     """
     theta = np.asarray(theta, dtype=float)
-    wrapped = np.mod(theta + np.pi, _TWO_PI) - np.pi
-    # np.mod can round a tiny negative argument up to exactly 2π, which would give π.
-    wrapped = np.where(wrapped >= np.pi, wrapped - _TWO_PI, wrapped)
+    # θ - 2π·round(θ / 2π) is θ itself for |θ| < π (no rounding error in range) and
+    # lands in [-π, π]; the closed end π is then moved to -π.
+    turns = np.round(theta * (1.0 / _TWO_PI))
+    turns *= _TWO_PI
+    wrapped = np.atleast_1d(np.subtract(theta, turns))
+    wrapped[wrapped >= np.pi] -= _TWO_PI
+    wrapped = wrapped.reshape(theta.shape)
     return scalar_or_array(wrapped)
 
 

@@ -52,6 +52,8 @@ def prob_normal_distribution(a, b2):
     """
     a = finite(a, "a")
     b2 = variance(b2, "b2")
+    if b2.ndim == 0 and b2 > 0:  # the common case: one variance for many points
+        return scalar_or_array(np.exp(np.square(a) * (-0.5 / b2)) / np.sqrt(2.0 * np.pi * b2))
     safe = np.where(b2 > 0, b2, 1.0)
     p = np.exp(-0.5 * a * a / safe) / np.sqrt(2.0 * np.pi * safe)
     return scalar_or_array(np.where(b2 > 0, p, _point_mass(a)))
@@ -81,6 +83,9 @@ def prob_triangular_distribution(a, b2):
     """
     a = finite(a, "a")
     b2 = variance(b2, "b2")
+    if b2.ndim == 0 and b2 > 0:
+        peak = 1.0 / (_SQRT6 * np.sqrt(b2))
+        return scalar_or_array(np.maximum(peak - np.abs(a) * (1.0 / (6.0 * b2)), 0.0))
     safe = np.where(b2 > 0, b2, 1.0)
     p = np.maximum(0.0, 1.0 / (_SQRT6 * np.sqrt(safe)) - np.abs(a) / (6.0 * safe))
     return scalar_or_array(np.where(b2 > 0, p, _point_mass(a)))

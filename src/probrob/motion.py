@@ -80,17 +80,33 @@ def _noise_variance(alpha_a, alpha_b, m_a, m_b, noise: str, alpha_c=None, m_c=No
     return std**2
 
 
-def _arc(x, y, th, v, w, dt):
+def _sinc(h):
+    """``sin(h) / h``, exactly 1 at ``h = 0``."""
+    h = np.asarray(h, dtype=float)
+    return np.divide(np.sin(h), h, out=np.ones_like(h), where=h != 0)
+
+
+def _arc(x, y, th, v, w, dt, out=None):
     r"""Exact motion on a circle for time ``dt`` (Table 5.3 lines 5–7 without γ).
 
     Uses :math:`\frac{v}{\omega}[\sin(\theta + \omega\Delta t) - \sin\theta] =
     v\Delta t\,\mathrm{sinc}(\omega\Delta t / 2)\cos(\theta + \omega\Delta t / 2)`,
-    which is finite and exact at :math:`\omega = 0`.
+    which is finite and exact at :math:`\omega = 0`. Writes into ``out`` (a
+    pre-allocated ``(..., 3)`` array) if given, else returns the three components.
     """
-    turn = w * dt
-    mid = th + 0.5 * turn
-    chord = v * dt * np.sinc(turn / (2.0 * np.pi))  # np.sinc(x) = sin(πx)/(πx)
-    return x + chord * np.cos(mid), y + chord * np.sin(mid), th + turn
+    half = np.multiply(w, 0.5 * dt)
+    chord = _sinc(half)
+    chord *= v
+    chord *= dt
+    mid = np.add(th, half)
+    if out is None:
+        return x + chord * np.cos(mid), y + chord * np.sin(mid), mid + half
+    np.multiply(chord, np.cos(mid), out=out[..., 0])
+    out[..., 0] += x
+    np.multiply(chord, np.sin(mid), out=out[..., 1])
+    out[..., 1] += y
+    np.add(mid, half, out=out[..., 2])
+    return out
 
 
 def _velocity_controls(alpha, u_t, noise):
@@ -157,19 +173,25 @@ def _invert_velocity(x_t, x_prev, dt):
     c, s = np.cos(th), np.sin(th)
     ahead = c * dx + s * dy  # displacement along the initial heading
     left = c * dy - s * dx  # ... and to its left
+    # Work with the distance ρ and the unit direction (ca, cl), so that no step divides
+    # by a tiny number (subnormal displacements included).
+    rho = np.hypot(ahead, left)
+    moved = rho > 0
+    safe_rho = np.where(moved, rho, 1.0)
+    ca, cl = ahead / safe_rho, left / safe_rho
     # Half the turn, arctan(left / ahead) in [-π/2, π/2]: reversing (ahead < 0) is the
     # short arc backwards, not a turn of nearly 2π.
-    sign = np.where(ahead < 0, -1.0, 1.0)
-    half = np.arctan2(sign * left, np.abs(ahead))
+    sign = np.where(ca < 0, -1.0, 1.0)
+    half = np.arctan2(sign * cl, np.abs(ca))
     # Rotation in place (x', y' = x, y): every ω̂ reaches the position. Take the limit
     # of arcs with v̂ → 0, on which the whole turn is ω̂ Δt and γ̂ = 0.
-    in_place = (ahead == 0) & (left == 0)
-    half = np.where(in_place, 0.5 * np.asarray(angle_diff(thn, th)), half)
-    # v̂ Δt = arc length = (ahead² + left²) · half / left; its limit at left = 0 is ahead.
-    safe_left = np.where(left == 0, 1.0, left)
-    safe_ahead = np.where(ahead == 0, 1.0, ahead)
-    ratio = np.where(left != 0, half / safe_left, np.where(ahead != 0, 1.0 / safe_ahead, 0.0))
-    v_hat = (ahead**2 + left**2) * ratio / dt
+    if not np.all(moved):
+        half = np.where(moved, half, 0.5 * np.asarray(angle_diff(thn, th)))
+    # Arc length v̂ Δt = ρ² · half / left = ρ · half / cl; at cl = 0 the limit is
+    # ρ / ca = ±ρ (straight ahead or straight back). |half / cl| lies in [1, π/2].
+    nonzero = cl != 0
+    ratio = np.where(nonzero, half / np.where(nonzero, cl, 1.0), sign)
+    v_hat = rho * ratio / dt
     w_hat = 2.0 * half / dt
     gamma_hat = angle_diff(thn, th + 2.0 * half) / dt
     return v_hat, w_hat, np.asarray(gamma_hat), half
@@ -182,7 +204,7 @@ def _velocity_jacobian_abs(v_hat, half, dt):
     (\hat\omega\Delta t)^2 = \tfrac12 |\hat v| \Delta t^4\,
     \mathrm{sinc}^2(\hat\omega\Delta t / 2)`.
     """
-    return 0.5 * np.abs(v_hat) * dt**4 * np.sinc(half / np.pi) ** 2
+    return 0.5 * np.abs(v_hat) * dt**4 * _sinc(half) ** 2
 
 
 def _hypotheses(x_t, x_prev, density: str) -> np.ndarray:
@@ -356,15 +378,15 @@ def sample_motion_model_velocity(
     rng = np.random.default_rng(rng)
 
     v, w, var_v, var_w, var_g = _velocity_controls(alpha, u_t, noise)
-    v_hat = v + sample(np.broadcast_to(var_v, shape), size=shape, rng=rng)
-    w_hat = w + sample(np.broadcast_to(var_w, shape), size=shape, rng=rng)
-    gamma_hat = sample(np.broadcast_to(var_g, shape), size=shape, rng=rng)
-    x, y, th = _unpack(x_prev)
-    xn, yn, thn = _arc(x, y, th, v_hat, w_hat, dt)
+    # The variances broadcast to ``size`` inside the sampler (numpy's convention), so a
+    # single command costs one scalar, not an array of a million equal variances.
+    v_hat = v + sample(var_v, size=shape, rng=rng)
+    w_hat = w + sample(var_w, size=shape, rng=rng)
+    gamma_hat = sample(var_g, size=shape, rng=rng)
     out = np.empty((*shape, 3))
-    out[..., 0] = xn
-    out[..., 1] = yn
-    out[..., 2] = thn + gamma_hat * dt
+    _arc(*_unpack(x_prev), v_hat, w_hat, dt, out=out)
+    gamma_hat *= dt
+    out[..., 2] += gamma_hat
     return out
 
 
@@ -424,9 +446,9 @@ def apply_odometry_deltas(x_prev, rot1, trans, rot2):
     :func:`odometry_deltas`):
 
     .. math::
-        x' = x + \delta_{trans}\cos(	heta + \delta_{rot1}),\quad
-        y' = y + \delta_{trans}\sin(	heta + \delta_{rot1}),\quad
-                heta' = 	heta + \delta_{rot1} + \delta_{rot2}.
+        x' = x + \delta_{trans}\cos(\theta + \delta_{rot1}),\quad
+        y' = y + \delta_{trans}\sin(\theta + \delta_{rot1}),\quad
+                heta' = \theta + \delta_{rot1} + \delta_{rot2}.
 
     Parameters
     ----------
@@ -438,7 +460,7 @@ def apply_odometry_deltas(x_prev, rot1, trans, rot2):
     Returns
     -------
     x_t : ndarray, shape broadcast(...) + (3,)
-        End poses; :math:`	heta'` is not wrapped.
+        End poses; :math:`\theta'` is not wrapped.
     """
     x, y, th = _unpack(check.poses(x_prev, "x_prev"))
     rot1 = check.finite(rot1, "rot1")
@@ -605,9 +627,9 @@ def sample_motion_model_odometry(
     rng = np.random.default_rng(rng)
 
     var1, var_t, var2 = _odometry_variances(alpha, rot1, trans, rot2, noise)
-    rot1_hat = rot1 - sample(np.broadcast_to(var1, shape), size=shape, rng=rng)
-    trans_hat = trans - sample(np.broadcast_to(var_t, shape), size=shape, rng=rng)
-    rot2_hat = rot2 - sample(np.broadcast_to(var2, shape), size=shape, rng=rng)
+    rot1_hat = rot1 - sample(var1, size=shape, rng=rng)
+    trans_hat = trans - sample(var_t, size=shape, rng=rng)
+    rot2_hat = rot2 - sample(var2, size=shape, rng=rng)
     out = np.empty((*shape, 3))
     out[..., 0], out[..., 1], out[..., 2] = _apply_deltas(
         *_unpack(x_prev), rot1_hat, trans_hat, rot2_hat

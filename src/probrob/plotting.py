@@ -119,8 +119,13 @@ def plot_pose(pose, ax=None, *, length=0.15, color="k", label=None):
     return ax
 
 
-def plot_samples(poses, ax=None, *, color="tab:red", s=3, alpha=0.5, label=None):
+def plot_samples(
+    poses, ax=None, *, color="tab:red", s=3, alpha=0.5, label=None, n_headings=0, length=0.1
+):
     """Scatter the positions of sampled poses of shape ``(N, 3)`` (or ``(N, 2)``).
+
+    With ``n_headings > 0`` the first ``n_headings`` poses also get a heading line of
+    ``length`` metres, which shows the spread of :math:`\theta'`.
 
     Returns
     -------
@@ -129,6 +134,14 @@ def plot_samples(poses, ax=None, *, color="tab:red", s=3, alpha=0.5, label=None)
     ax = _axes(ax)
     poses = check.finite(poses, "poses")
     ax.scatter(poses[..., 0], poses[..., 1], s=s, color=color, alpha=alpha, lw=0, label=label)
+    if n_headings:
+        x, y, th = (poses.reshape(-1, 3)[:n_headings, k] for k in range(3))
+        segments = np.stack(
+            [np.c_[x, y], np.c_[x + length * np.cos(th), y + length * np.sin(th)]], 1
+        )
+        from matplotlib.collections import LineCollection
+
+        ax.add_collection(LineCollection(segments, colors=color, linewidths=0.8, alpha=0.7))
     ax.set_aspect("equal")
     ax.set_xlabel("$x$ [m]")
     ax.set_ylabel("$y$ [m]")
@@ -241,6 +254,7 @@ def plot_motion_model(
     distribution="normal (12 uniforms)",
     noise="variance",
     n_samples=500,
+    n_headings=0,
     grid=160,
     extent=None,
     show_density=True,
@@ -275,6 +289,8 @@ def plot_motion_model(
     noise : {"variance", "std"}
     n_samples : int
         Samples to draw (0 for none).
+    n_headings : int
+        How many of the samples also show their heading :math:`\theta'` as a line.
     grid : int
         Density grid points per axis.
     extent : tuple (x0, x1, y0, y1), optional
@@ -303,9 +319,9 @@ def plot_motion_model(
         xs, ys = np.linspace(x0, x1, grid), np.linspace(y0, y1, grid)
         xy = np.stack(np.meshgrid(xs, ys), axis=-1)
         plot_density_xy(xs, ys, density(xy), ax=ax)
-    if n_samples:
-        plot_samples(samples, ax=ax)
     size = 0.08 * (x1 - x0)
+    if n_samples:
+        plot_samples(samples, ax=ax, n_headings=min(n_headings, n_samples), length=size / 2)
     plot_pose(x_prev, ax=ax, length=size)
     plot_pose(end, ax=ax, length=size, color="tab:blue")
     ax.set_xlim(x0, x1)
