@@ -91,6 +91,27 @@ def prob_triangular_distribution(a, b2):
     return scalar_or_array(np.where(b2 > 0, p, _point_mass(a)))
 
 
+_BLOCK = 1 << 14  # columns of uniforms per block: 12 × 16384 doubles = 1.5 MB, cache-sized
+
+
+def _irwin_hall_12(rng: np.random.Generator, shape: tuple[int, ...]) -> np.ndarray:
+    """Σ of twelve U(0, 1), minus 6, of the given shape: ½ Σ rand(-1, 1) (Table 5.4).
+
+    Drawn block by block into one reused buffer, which avoids a temporary of twelve
+    times the output's size (96 MB for a million samples) and is faster.
+    """
+    n = int(np.prod(shape))
+    out = np.empty(n)
+    buffer = np.empty(12 * min(n, _BLOCK))
+    for start in range(0, n, _BLOCK):
+        m = min(n - start, _BLOCK)
+        uniforms = buffer[: 12 * m].reshape(12, m)
+        rng.random(out=uniforms)
+        np.sum(uniforms, axis=0, out=out[start : start + m])
+    out -= 6.0
+    return out.reshape(shape)
+
+
 def _std_and_shape(b2, size) -> tuple[np.ndarray, tuple[int, ...]]:
     b = np.sqrt(variance(b2, "b2"))
     return b, output_shape(b.shape, size)
@@ -129,9 +150,7 @@ def sample_normal_distribution(b2, size=None, rng=None, *, method="sum12"):
     if method == "exact":
         z = rng.standard_normal(shape)
     else:
-        # ½ Σ rand(-b, b) = b · (Σ U(0, 1) − 6) for twelve U(0, 1).
-        z = rng.random((12, *shape)).sum(axis=0)
-        z -= 6.0
+        z = _irwin_hall_12(rng, shape)
     return scalar_or_array(b * z)
 
 

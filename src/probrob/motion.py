@@ -39,7 +39,7 @@ from collections.abc import Callable
 import numpy as np
 
 from . import _validation as check
-from .angles import angle_diff
+from .angles import angle_diff, wrap_angle
 from .distributions import prob_normal_distribution, sample_normal_distribution
 
 __all__ = [
@@ -169,32 +169,45 @@ def _invert_velocity(x_t, x_prev, dt):
     """
     x, y, th = _unpack(x_prev)
     xn, yn, thn = _unpack(x_t)
-    dx, dy = xn - x, yn - y
+    dx, dy = np.subtract(xn, x), np.subtract(yn, y)
     c, s = np.cos(th), np.sin(th)
-    ahead = c * dx + s * dy  # displacement along the initial heading
-    left = c * dy - s * dx  # ... and to its left
-    # Work with the distance ρ and the unit direction (ca, cl), so that no step divides
-    # by a tiny number (subnormal displacements included).
-    rho = np.hypot(ahead, left)
-    moved = rho > 0
-    safe_rho = np.where(moved, rho, 1.0)
-    ca, cl = ahead / safe_rho, left / safe_rho
+    # The displacement ahead of the initial heading and to its left (in place: fewer
+    # temporaries make this markedly faster for a million poses).
+    ahead = c * dx
+    ahead += s * dy
+    left = c * dy
+    left -= s * dx
     # Half the turn, arctan(left / ahead) in [-π/2, π/2]: reversing (ahead < 0) is the
-    # short arc backwards, not a turn of nearly 2π.
-    sign = np.where(ca < 0, -1.0, 1.0)
-    half = np.arctan2(sign * cl, np.abs(ca))
-    # Rotation in place (x', y' = x, y): every ω̂ reaches the position. Take the limit
-    # of arcs with v̂ → 0, on which the whole turn is ω̂ Δt and γ̂ = 0.
-    if not np.all(moved):
-        half = np.where(moved, half, 0.5 * np.asarray(angle_diff(thn, th)))
-    # Arc length v̂ Δt = ρ² · half / left = ρ · half / cl; at cl = 0 the limit is
-    # ρ / ca = ±ρ (straight ahead or straight back). |half / cl| lies in [1, π/2].
+    # short arc backwards, not a turn of nearly 2π. atan2 needs no normalisation.
+    sign = np.where(ahead < 0, -1.0, 1.0)
+    half = np.arctan2(sign * left, np.abs(ahead))
+    # Arc length v̂ Δt = ρ² · half / left = ρ · half / cl with ρ the distance and
+    # cl = left / ρ; at cl = 0 the limit is ±ρ (straight ahead or back), and
+    # |half / cl| lies in [1, π/2], so nothing overflows.
+    rho = np.sqrt(np.square(ahead) + np.square(left))
+    moved = rho > 0
+    all_moved = bool(np.all(moved))
+    if all_moved:
+        cl = left / rho
+    else:
+        cl = np.where(moved, left / np.where(moved, rho, 1.0), 0.0)
     nonzero = cl != 0
-    ratio = np.where(nonzero, half / np.where(nonzero, cl, 1.0), sign)
-    v_hat = rho * ratio / dt
-    w_hat = 2.0 * half / dt
-    gamma_hat = angle_diff(thn, th + 2.0 * half) / dt
-    return v_hat, w_hat, np.asarray(gamma_hat), half
+    if np.all(nonzero):
+        ratio = half / cl
+    else:
+        ratio = np.where(nonzero, half / np.where(nonzero, cl, 1.0), sign)
+    if not all_moved:
+        # Rotation in place (x', y' = x, y): every ω̂ reaches the position. Take the
+        # limit of arcs with v̂ → 0, on which the whole turn is ω̂ Δt and γ̂ = 0.
+        half = np.where(moved, half, 0.5 * np.asarray(angle_diff(thn, th)))
+        ratio = np.where(moved, ratio, 0.0)
+    v_hat = rho * ratio
+    v_hat /= dt
+    w_hat = half * (2.0 / dt)
+    turn = np.subtract(thn, th)
+    turn -= 2.0 * half
+    gamma_hat = np.asarray(wrap_angle(turn)) / dt
+    return v_hat, w_hat, gamma_hat, half
 
 
 def _velocity_jacobian_abs(v_hat, half, dt):
