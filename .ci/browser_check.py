@@ -1,0 +1,579 @@
+#!/usr/bin/env python3
+"""Open built chapter pages in a real headless Chromium and check what a reader would see.
+
+For every page it checks that
+  * MathJax typeset the math (``mjx-container`` elements, no ``mjx-merror``, and no raw ``$$``,
+    ``\\(`` or ``\\[`` left in the visible text outside code blocks);
+  * the plots are there (``<img>`` in cell outputs with a non-zero natural size, no broken image
+    anywhere on the page);
+  * every ``to_jshtml`` animation player changes its frame when its "Next frame" button is
+    clicked, and again while "Play" runs;
+  * the page loads nothing from outside the local server (no external script, stylesheet, font,
+    image) and throws no JavaScript error;
+and saves a screenshot to ``_build/screenshots/<page>.png``.
+
+Only the standard library is used: Chromium is driven through its DevTools protocol over a pipe
+(``--remote-debugging-pipe``), the book is served by ``http.server`` on 127.0.0.1 (or opened as
+file:// URLs with ``--file-urls``, as a reader opening index.html would).
+
+Usage:  python .ci/browser_check.py [PAGE.html ...] [--min-players 0] [--file-urls] ...
+PAGE is relative to the HTML folder (default: every notebook chapter listed in _toc.yml).
+Exit status 0 only if every page passes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import contextlib
+import fcntl
+import functools
+import http.server
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+CHROMIUM_FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--no-first-run",
+    "--disable-sync",
+    "--disable-quic",
+    "--disable-extensions",
+    "--disable-default-apps",
+    "--hide-scrollbars",
+    "--mute-audio",
+    "--remote-debugging-pipe",
+]
+
+
+# sphinx-thebe (always loaded by Jupyter Book 1) adds its config script twice on every page; the
+# second `const` declaration throws. Harmless (thebe is off) and not ours, so it is tolerated.
+KNOWN_JS_ERROR = "Identifier 'THEBE_JS_URL' has already been declared"
+
+
+class CheckError(Exception):
+    pass
+
+
+# --------------------------------------------------------------------------------------------
+# Pages to check
+
+
+def toc_notebook_pages(root: Path) -> list[str]:
+    """Pages (``<file>.html``) of every _toc.yml entry whose source is a notebook."""
+    text = (root / "_toc.yml").read_text(encoding="utf-8")
+    files = re.findall(r"^\s*(?:-\s*)?(?:file|root)\s*:\s*[\"']?([^\"'#\s]+)", text, re.M)
+    pages = []
+    for f in files:
+        stem = f[:-6] if f.endswith(".ipynb") else f
+        if (root / f"{stem}.ipynb").is_file():
+            pages.append(f"{stem}.html")
+    return pages
+
+
+# --------------------------------------------------------------------------------------------
+# A local web server for the built book
+
+
+class QuietHandler(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, format, *args):
+        pass
+
+
+@contextlib.contextmanager
+def serve(directory: Path):
+    handler = functools.partial(QuietHandler, directory=str(directory))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}"
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+# --------------------------------------------------------------------------------------------
+# Chromium over the DevTools pipe: fd 3 = commands to the browser, fd 4 = its replies.
+
+
+def find_chromium(explicit: str | None) -> str:
+    candidates = [explicit] if explicit else []
+    # Debian's /usr/bin/chromium is a shell wrapper that execs the real binary; use the binary.
+    candidates += ["/usr/lib/chromium/chromium", "chromium", "chromium-browser", "google-chrome"]
+    for c in candidates:
+        if c and (path := shutil.which(c) or (c if os.access(c, os.X_OK) else None)):
+            return path
+    raise CheckError("Chromium not found: apt-get install -y chromium (or pass --chromium)")
+
+
+class Browser:
+    def __init__(self, executable: str, timeout: float):
+        self.timeout = timeout
+        self.profile = tempfile.mkdtemp(prefix="probrob-chromium-")
+        to_browser_r, to_browser_w = os.pipe()
+        from_browser_r, from_browser_w = os.pipe()
+        # The child reads commands on fd 3 and writes replies on fd 4. Move its ends above 9 first,
+        # so that the dup2 calls cannot clobber one with the other.
+        child_r = fcntl.fcntl(to_browser_r, fcntl.F_DUPFD_CLOEXEC, 10)
+        child_w = fcntl.fcntl(from_browser_w, fcntl.F_DUPFD_CLOEXEC, 10)
+
+        def setup_fds():
+            os.dup2(child_r, 3)  # dup2 makes 3 and 4 inheritable; every other fd is close-on-exec
+            os.dup2(child_w, 4)
+
+        args = [executable, *CHROMIUM_FLAGS, f"--user-data-dir={self.profile}", "about:blank"]
+        self.log = tempfile.TemporaryFile()  # noqa: SIM115 -- lives as long as the browser
+        self.proc = subprocess.Popen(
+            args,
+            stdin=subprocess.DEVNULL,
+            stdout=self.log,
+            stderr=self.log,
+            close_fds=False,  # closing would happen after setup_fds and close 3 and 4 again
+            preexec_fn=setup_fds,  # runs before this script starts any thread
+            start_new_session=True,  # own process group: the browser and all its helpers
+        )
+        for fd in (to_browser_r, from_browser_w, child_r, child_w):
+            os.close(fd)
+        self.wfile = os.fdopen(to_browser_w, "wb", buffering=0)
+        self.rfd = from_browser_r
+        self.next_id = 0
+        self.pending: dict[int, dict] = {}
+        self.events: list[dict] = []
+        self.cond = threading.Condition()
+        self.closed = False
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+
+    def _read(self):
+        buf = b""
+        while True:
+            try:
+                chunk = os.read(self.rfd, 1 << 20)
+            except OSError:
+                chunk = b""
+            if not chunk:
+                with self.cond:
+                    self.closed = True
+                    self.cond.notify_all()
+                return
+            buf += chunk
+            *messages, buf = buf.split(b"\0")
+            with self.cond:
+                for raw in messages:
+                    msg = json.loads(raw)
+                    if "id" in msg:
+                        self.pending[msg["id"]] = msg
+                    else:
+                        self.events.append(msg)
+                self.cond.notify_all()
+
+    def send(
+        self,
+        method: str,
+        params: dict | None = None,
+        session: str | None = None,
+        timeout: float | None = None,
+    ) -> dict:
+        with self.cond:
+            self.next_id += 1
+            mid = self.next_id
+        msg = {"id": mid, "method": method, "params": params or {}}
+        if session:
+            msg["sessionId"] = session
+        self.wfile.write(json.dumps(msg).encode() + b"\0")
+        deadline = time.monotonic() + (timeout or self.timeout)
+        with self.cond:
+            while mid not in self.pending:
+                if self.closed:
+                    raise CheckError(f"Chromium exited during {method}:\n{self.output()}")
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise CheckError(f"no answer from Chromium to {method}")
+                self.cond.wait(left)
+            reply = self.pending.pop(mid)
+        if "error" in reply:
+            raise CheckError(f"{method} failed: {reply['error']}")
+        return reply.get("result", {})
+
+    def wait_event(self, method: str, session: str, timeout: float, since: int = 0) -> dict:
+        """Wait for an event of this session, among those received after index ``since``."""
+        deadline = time.monotonic() + timeout
+        with self.cond:
+            while True:
+                for ev in self.events[since:]:
+                    if ev.get("method") == method and ev.get("sessionId") == session:
+                        return ev
+                left = deadline - time.monotonic()
+                if left <= 0 or self.closed:
+                    raise CheckError(f"timed out waiting for {method}")
+                self.cond.wait(left)
+
+    def output(self) -> str:
+        self.log.seek(0)
+        return self.log.read().decode(errors="replace")[-4000:]
+
+    def close(self):
+        with contextlib.suppress(Exception):
+            self.send("Browser.close", timeout=10)
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            # Stop the real browser and its helpers: the process group this script created.
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(self.proc.pid, signal.SIGTERM)
+            try:
+                self.proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                with contextlib.suppress(ProcessLookupError):
+                    os.killpg(self.proc.pid, signal.SIGKILL)
+                self.proc.wait()
+        with contextlib.suppress(Exception):
+            self.wfile.close()
+        shutil.rmtree(self.profile, ignore_errors=True)
+
+
+# --------------------------------------------------------------------------------------------
+# The checks, as JavaScript run in the page
+
+JS_MATHJAX_READY = """
+(async () => {
+  const t0 = Date.now();
+  while (!(window.MathJax && MathJax.startup && MathJax.startup.promise)) {
+    if (Date.now() - t0 > %d) return "MathJax was not loaded";
+    await new Promise(r => setTimeout(r, 100));
+  }
+  await MathJax.startup.promise;
+  if (MathJax.typesetPromise) await MathJax.typesetPromise();
+  return "ok";
+})()
+"""
+
+JS_SURVEY = r"""
+(() => {
+  const SKIP = new Set(["PRE", "CODE", "SCRIPT", "STYLE", "TEXTAREA", "MJX-CONTAINER",
+                        "MJX-ASSISTIVE-MML", "NOSCRIPT", "TEMPLATE"]);
+  const walker = document.createTreeWalker(document.body, NodeFilter.SHOW_TEXT, {
+    acceptNode(node) {
+      for (let p = node.parentElement; p; p = p.parentElement) {
+        if (SKIP.has(p.tagName.toUpperCase())) return NodeFilter.FILTER_REJECT;
+      }
+      return NodeFilter.FILTER_ACCEPT;
+    }
+  });
+  const raw = [];
+  for (let n = walker.nextNode(); n; n = walker.nextNode()) {
+    const t = n.nodeValue;
+    for (const pat of ["$$", "\\(", "\\[", "\\begin{"]) {
+      const i = t.indexOf(pat);
+      if (i >= 0) raw.push(t.slice(Math.max(0, i - 40), i + 60).replace(/\s+/g, " "));
+    }
+  }
+  const imgs = Array.from(document.images);
+  const ok = im => im.complete && im.naturalWidth > 0 && im.naturalHeight > 0;
+  const plots = imgs.filter(im => im.closest(".cell_output") && !im.id.startsWith("_anim_img"));
+  return {
+    mathElements: document.querySelectorAll(".math").length,
+    mathUntypeset: Array.from(document.querySelectorAll(".math"))
+      .filter(el => !el.querySelector("mjx-container")).length,
+    mjx: document.querySelectorAll("mjx-container").length,
+    mjxErrors: Array.from(document.querySelectorAll("mjx-merror"))
+      .map(e => e.getAttribute("data-mjx-error") || e.textContent).slice(0, 5),
+    raw: raw.slice(0, 5),
+    rawCount: raw.length,
+    images: imgs.length,
+    broken: imgs.filter(im => !ok(im)).map(im => (im.getAttribute("src") || "").slice(0, 80)),
+    plots: plots.length,
+    plotsOk: plots.filter(ok).length,
+    players: document.querySelectorAll('img[id^="_anim_img"]').length,
+    height: Math.ceil(document.documentElement.scrollHeight),
+  };
+})()
+"""
+
+# A cheap fingerprint of a (data:) URL, so frames can be compared without shipping megabytes.
+JS_PLAYER_STATE = r"""
+((k) => {
+  const img = document.querySelectorAll('img[id^="_anim_img"]')[k];
+  const s = img.getAttribute("src") || "";
+  let h = 0;
+  for (let i = 0; i < s.length; i += 7) h = (h * 31 + s.charCodeAt(i)) | 0;
+  const slider = img.closest(".animation").querySelector('input[type="range"]');
+  return {len: s.length, hash: h, frame: slider ? Number(slider.value) : null,
+          frames: slider ? Number(slider.max) + 1 : null,
+          loaded: img.complete && img.naturalWidth > 0};
+})(%d)
+"""
+
+JS_BUTTON_CENTER = r"""
+((k, title) => {
+  const anim = document.querySelectorAll('img[id^="_anim_img"]')[k].closest(".animation");
+  const b = anim && anim.querySelector('button[title="' + title + '"]');
+  if (!b) return null;
+  b.scrollIntoView({block: "center"});
+  const r = b.getBoundingClientRect();
+  return {x: r.left + r.width / 2, y: r.top + r.height / 2};
+})(%d, %s)
+"""
+
+
+class Page:
+    def __init__(self, browser: Browser, session: str):
+        self.b = browser
+        self.s = session
+
+    def send(self, method, params=None, timeout=None):
+        return self.b.send(method, params, self.s, timeout)
+
+    def js(self, expr: str, timeout: float | None = None):
+        res = self.send(
+            "Runtime.evaluate",
+            {"expression": expr, "returnByValue": True, "awaitPromise": True},
+            timeout,
+        )
+        if "exceptionDetails" in res:
+            raise CheckError(f"page script failed: {res['exceptionDetails']}")
+        return res["result"].get("value")
+
+    def click_button(self, player: int, title: str) -> None:
+        pos = self.js(JS_BUTTON_CENTER % (player, json.dumps(title)))
+        if pos is None:
+            raise CheckError(f'player {player + 1}: no "{title}" button')
+        time.sleep(0.1)  # let the scroll settle
+        for kind in ("mouseMoved", "mousePressed", "mouseReleased"):
+            self.send(
+                "Input.dispatchMouseEvent",
+                {"type": kind, "x": pos["x"], "y": pos["y"], "button": "left", "clickCount": 1},
+            )
+
+
+def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) -> list[str]:
+    """Run every check on one page; return the list of failures (empty = pass)."""
+    failures: list[str] = []
+    url = f"{base_url}/{page}"
+    target = browser.send("Target.createTarget", {"url": "about:blank"})["targetId"]
+    session = browser.send("Target.attachToTarget", {"targetId": target, "flatten": True})[
+        "sessionId"
+    ]
+    p = Page(browser, session)
+    for domain in ("Page", "Runtime", "Network", "Log"):
+        p.send(f"{domain}.enable")
+    p.send(
+        "Emulation.setDeviceMetricsOverride",
+        {"width": args.width, "height": args.height, "deviceScaleFactor": 1, "mobile": False},
+    )
+    with browser.cond:
+        mark = len(browser.events)
+    nav = p.send("Page.navigate", {"url": url})
+    if nav.get("errorText"):
+        raise CheckError(f"{page}: cannot load {url}: {nav['errorText']}")
+    browser.wait_event("Page.loadEventFired", session, args.timeout, since=mark)
+
+    # Sphinx loads MathJax only on pages that contain math.
+    if p.js('document.querySelectorAll(".math").length') > 0:
+        state = p.js(JS_MATHJAX_READY % int(args.timeout * 1000), timeout=args.timeout + 10)
+        if state != "ok":
+            failures.append(f"math: {state}")
+    time.sleep(0.5)  # the players start from a setTimeout(0) after load
+    info = p.js(JS_SURVEY)
+
+    # Math
+    print(
+        f"  math: {info['mjx']} MathJax-typeset formulas "
+        f"({info['mathElements']} math elements, {info['mathUntypeset']} not typeset, "
+        f"{len(info['mjxErrors'])} TeX errors, {info['rawCount']} raw delimiters in the text)"
+    )
+    if info["mjx"] < args.min_math:
+        failures.append(f"math: {info['mjx']} typeset formulas, expected >= {args.min_math}")
+    if info["mathUntypeset"]:
+        failures.append(f"math: {info['mathUntypeset']} math elements were not typeset")
+    if info["mjxErrors"]:
+        failures.append(f"math: TeX errors {info['mjxErrors']}")
+    if info["rawCount"]:
+        failures.append(f"math: raw TeX left in the visible text: {info['raw']}")
+
+    # Images
+    print(
+        f"  images: {info['plots']} plot images in cell outputs ({info['plotsOk']} rendered), "
+        f"{info['images']} <img> on the page, {len(info['broken'])} broken"
+    )
+    if info["plotsOk"] < args.min_images:
+        failures.append(f"images: {info['plotsOk']} rendered plots, expected >= {args.min_images}")
+    if info["broken"]:
+        failures.append(f"images: broken {info['broken'][:5]}")
+
+    # Players
+    for k in range(info["players"]):
+        # Step: first frame, then "Next frame" must show a different image (frame 1).
+        p.click_button(k, "First frame")
+        time.sleep(0.2)
+        s0 = p.js(JS_PLAYER_STATE % k)
+        p.click_button(k, "Next frame")
+        time.sleep(0.3)
+        s1 = p.js(JS_PLAYER_STATE % k)
+        stepped = (s0["hash"], s0["len"]) != (s1["hash"], s1["len"]) and s1["frame"] == 1
+        # Play: from the first frame again, the image must change within a few seconds (works
+        # in any repetition mode and at any frame interval up to ~5 s).
+        p.click_button(k, "First frame")
+        time.sleep(0.2)
+        p.click_button(k, "Play")
+        deadline = time.monotonic() + 6.0
+        while True:
+            time.sleep(0.2)
+            s2 = p.js(JS_PLAYER_STATE % k)
+            played = (s2["hash"], s2["len"]) != (s0["hash"], s0["len"])
+            if played or time.monotonic() > deadline:
+                break
+        p.click_button(k, "Pause")
+        ok = s0["loaded"] and s1["loaded"] and s2["loaded"] and stepped and played
+        print(
+            f"  player {k + 1}: {s0['frames']} frames; next-frame button "
+            f"{'changed' if stepped else 'did NOT change'} the image (frame {s0['frame']} -> "
+            f"{s1['frame']}); play {'advanced' if played else 'did NOT advance'} it "
+            f"(frame 0 -> {s2['frame']})"
+        )
+        if not ok:
+            failures.append(f"player {k + 1}: frames do not change (or do not load)")
+    if info["players"] < args.min_players:
+        failures.append(
+            f"players: {info['players']} to_jshtml players, expected >= {args.min_players}"
+        )
+
+    # Screenshot of the whole page (up to --max-shot-height), after the players were used: the
+    # viewport is made as tall as the page, so the fixed sidebars are laid out as a reader sees.
+    height = min(info["height"], args.max_shot_height)
+    p.send(
+        "Emulation.setDeviceMetricsOverride",
+        {"width": args.width, "height": height, "deviceScaleFactor": 1, "mobile": False},
+    )
+    p.js("window.scrollTo(0, 0)")
+    time.sleep(0.5)
+    shot = p.send("Page.captureScreenshot", {"format": "png"}, timeout=120)
+    shots.mkdir(parents=True, exist_ok=True)
+    out = shots / (Path(page).stem + ".png")
+    out.write_bytes(base64.b64decode(shot["data"]))
+    print(
+        f"  screenshot: {out.relative_to(ROOT) if out.is_relative_to(ROOT) else out} "
+        f"({args.width}x{height})"
+    )
+
+    # Network and JavaScript errors, from the events gathered during the whole visit
+    with browser.cond:
+        events = [e for e in browser.events if e.get("sessionId") == session]
+    requests, external, failed, js_errors = set(), set(), [], []
+    for ev in events:
+        m, prm = ev["method"], ev.get("params", {})
+        if m == "Network.requestWillBeSent":
+            u = prm["request"]["url"]
+            if u.startswith(("data:", "blob:", "about:")):
+                continue
+            requests.add(u)
+            if not u.startswith(base_url + "/"):
+                external.add(u)
+        elif m == "Network.responseReceived":
+            r = prm["response"]
+            if r["status"] >= 400 and not r["url"].endswith("/favicon.ico"):
+                failed.append(f"{r['status']} {r['url']}")
+        elif m == "Network.loadingFailed" and not prm.get("canceled"):
+            failed.append(f"{prm.get('errorText')} ({prm.get('type')})")
+        elif m == "Runtime.exceptionThrown":
+            d = prm["exceptionDetails"]
+            err = (d.get("exception") or {}).get("description") or d.get("text") or ""
+            if KNOWN_JS_ERROR not in err:
+                js_errors.append(err)
+    print(
+        f"  network: {len(requests)} requests, all local"
+        if not external
+        else f"  network: {len(external)} EXTERNAL requests: {sorted(external)[:5]}"
+    )
+    if external:
+        failures.append(f"network: external requests {sorted(external)[:5]}")
+    if failed:
+        failures.append(f"network: failed requests {failed[:5]}")
+    print(f"  javascript: {len(js_errors)} uncaught errors")
+    if js_errors:
+        failures.append(f"javascript errors: {js_errors[:3]}")
+
+    browser.send("Target.closeTarget", {"targetId": target})
+    with browser.cond:
+        browser.events = [e for e in browser.events if e.get("sessionId") != session]
+    return failures
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument(
+        "pages",
+        nargs="*",
+        help="pages relative to --html (default: notebook chapters in _toc.yml)",
+    )
+    ap.add_argument("--html", type=Path, default=ROOT / "_build" / "html")
+    ap.add_argument("--screenshots", type=Path, default=ROOT / "_build" / "screenshots")
+    ap.add_argument(
+        "--file-urls",
+        action="store_true",
+        help="open the pages as file:// URLs (as a reader opening index.html) instead of serving",
+    )
+    ap.add_argument("--chromium", help="Chromium binary (default: Debian's chromium)")
+    ap.add_argument("--min-math", type=int, default=1, help="typeset formulas per page")
+    ap.add_argument("--min-images", type=int, default=2, help="rendered plot images per page")
+    ap.add_argument("--min-players", type=int, default=1, help="to_jshtml players per page")
+    ap.add_argument("--timeout", type=float, default=60.0, help="seconds per page load / wait")
+    ap.add_argument("--width", type=int, default=1280)
+    ap.add_argument("--height", type=int, default=1600)
+    ap.add_argument("--max-shot-height", type=int, default=16000)
+    args = ap.parse_args(argv)
+
+    html = args.html.resolve()
+    pages = args.pages or toc_notebook_pages(ROOT)
+    if not pages:
+        print("browser check: no notebook chapters in _toc.yml", file=sys.stderr)
+        return 1
+    missing = [pg for pg in pages if not (html / pg).is_file()]
+    if missing:
+        print(f"browser check: not built: {missing} (run `make book`)", file=sys.stderr)
+        return 1
+
+    chromium = find_chromium(args.chromium)
+    version = subprocess.run([chromium, "--version"], capture_output=True, text=True).stdout
+    print(f"browser check: {version.strip() or chromium}, {len(pages)} page(s)")
+    browser = Browser(chromium, args.timeout)
+    passed = failed = 0
+    try:
+        server = contextlib.nullcontext(html.as_uri()) if args.file_urls else serve(html)
+        with server as base_url:
+            for page in pages:
+                print(f"{page}:")
+                try:
+                    failures = check_page(browser, base_url, page, args.screenshots, args)
+                except CheckError as e:
+                    failures = [str(e)]
+                for f in failures:
+                    print(f"  FAIL {f}")
+                if failures:
+                    failed += 1
+                else:
+                    passed += 1
+                    print("  ok")
+    finally:
+        browser.close()
+    print(f"browser-check: {passed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
