@@ -14,12 +14,16 @@ calls the models. ``ipywidgets`` and ``IPython`` are imported only when used.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from . import _validation as check
 from .plotting import DISTRIBUTIONS, motion_extent, motion_samples, plot_motion_model
 
 __all__ = ["alpha_player", "odometry_model_explorer", "velocity_model_explorer"]
+
+_CDN_STYLESHEET = re.compile(r"<link\s+rel=\"stylesheet\"\s+href=\"https?://[^\"]*\"\s*/?>")
 
 
 def _slider(description, value, lo, hi, step, fmt=".3f"):
@@ -272,4 +276,7 @@ def alpha_player(
     anim = FuncAnimation(fig, draw, frames=len(frames), interval=interval)
     html = anim.to_jshtml(default_mode="once")
     plt.close(fig)
+    # to_jshtml links Font Awesome from a CDN for its button icons; the book's theme ships
+    # Font Awesome itself, and a page that works offline must not reach out.
+    html = _CDN_STYLESHEET.sub("", html)
     return HTML(html)
