@@ -82,7 +82,8 @@ Agreement checks (always run; a failure exits with status 2)
 
 How to run
 ----------
-From the repository root, with the package installed (about 15-30 s on two cores)::
+From the repository root, with the package installed (about 15-30 s on two cores);
+``make bench`` runs the full run in the project's ``.venv``::
 
     python benchmarks/bench_motion.py               # full run, N = 1e6
     python benchmarks/bench_motion.py --quick       # smoke test, a few seconds
