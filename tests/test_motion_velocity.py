@@ -20,6 +20,7 @@ from probrob.motion import (
     motion_model_velocity,
     sample_motion_model_velocity,
     velocity_motion,
+    velocity_motion_jacobians,
 )
 
 EXACT = partial(sample_normal_distribution, method="exact")
@@ -455,3 +456,89 @@ def test_particle_set_broadcasting_and_size():
 def test_bad_input_raises_value_error_naming_the_argument(call, name):
     with pytest.raises(ValueError, match=rf"\b{name}\b"):
         call()
+
+
+# ------------------------------------------------------------------ Jacobians (Table 7.2)
+
+
+def numeric_motion_jacobians(x_prev, u, dt, h=1e-6):
+    G = np.empty((3, 3))
+    V = np.empty((3, 2))
+    for k in range(3):
+        e = np.zeros(3)
+        e[k] = h
+        G[:, k] = (velocity_motion(x_prev + e, u, dt) - velocity_motion(x_prev - e, u, dt)) / (
+            2 * h
+        )
+    for k in range(2):
+        e = np.zeros(2)
+        e[k] = h
+        V[:, k] = (velocity_motion(x_prev, u + e, dt) - velocity_motion(x_prev, u - e, dt)) / (
+            2 * h
+        )
+    return G, V
+
+
+@given(
+    v=st.floats(-2, 2),
+    w=st.one_of(st.floats(-3, 3), st.floats(-1e-7, 1e-7), st.sampled_from([0.0, 0.2, -0.2])),
+    th=st.floats(-np.pi, np.pi),
+    dt=st.floats(0.05, 1.5),
+)
+def test_jacobians_match_finite_differences(v, w, th, dt):
+    """ω = 0, tiny ω and ωΔt/2 = ±0.1 (where the series hands over) included."""
+    x_prev = np.array([0.3, -1.2, th])
+    u = np.array([v, w])
+    G, V = velocity_motion_jacobians(x_prev, u, dt)
+    G_num, V_num = numeric_motion_jacobians(x_prev, u, dt)
+    np.testing.assert_allclose(G, G_num, atol=1e-8)
+    np.testing.assert_allclose(V, V_num, atol=1e-8)
+
+
+def test_jacobians_equal_the_books_table_7_2():
+    x_prev = np.array([1.0, 2.0, 0.7])
+    for v, w, dt in [(1.0, 0.5, 1.0), (-0.4, 2.0, 0.3), (2.0, -1.2, 0.5)]:
+        th, t1 = x_prev[2], x_prev[2] + w * dt
+        G_book = np.array(
+            [[1, 0, -v / w * np.cos(th) + v / w * np.cos(t1)],
+             [0, 1, -v / w * np.sin(th) + v / w * np.sin(t1)],
+             [0, 0, 1]]
+        )  # fmt: skip
+        V_book = np.array(
+            [[(-np.sin(th) + np.sin(t1)) / w,
+              v * (np.sin(th) - np.sin(t1)) / w**2 + v * np.cos(t1) * dt / w],
+             [(np.cos(th) - np.cos(t1)) / w,
+              -v * (np.cos(th) - np.cos(t1)) / w**2 + v * np.sin(t1) * dt / w],
+             [0, dt]]
+        )  # fmt: skip
+        G, V = velocity_motion_jacobians(x_prev, [v, w], dt)
+        np.testing.assert_allclose(G, G_book, atol=1e-12)
+        np.testing.assert_allclose(V, V_book, atol=1e-12)
+
+
+def test_jacobians_straight_line_limit_is_exact():
+    G, V = velocity_motion_jacobians([0.0, 0.0, 0.0], [2.0, 0.0], 0.5)
+    np.testing.assert_array_equal(G, [[1, 0, 0], [0, 1, 1.0], [0, 0, 1]])
+    # ∂y'/∂ω = v Δt² / 2 on the straight line (the arc bends to the left).
+    np.testing.assert_array_equal(V, [[0.5, 0.0], [0.0, 0.25], [0.0, 0.5]])
+
+
+@pytest.mark.parametrize("shape", [(), (7,), (4, 5)])
+def test_jacobians_batch_equals_one_at_a_time(shape):
+    rng = np.random.default_rng(40)
+    n = int(np.prod(shape))
+    x_prev = rng.normal(0, 1, (n, 3)).reshape(*shape, 3)
+    u = np.column_stack([rng.uniform(-1, 2, n), rng.uniform(-1, 1, n)]).reshape(*shape, 2)
+    G, V = velocity_motion_jacobians(x_prev, u, 0.5)
+    assert G.shape == (*shape, 3, 3) and V.shape == (*shape, 3, 2)
+    for idx in np.ndindex(shape):
+        G1, V1 = velocity_motion_jacobians(x_prev[idx], u[idx], 0.5)
+        np.testing.assert_allclose(G[idx], G1, rtol=1e-14)
+        np.testing.assert_allclose(V[idx], V1, rtol=1e-14)
+
+
+def test_jacobians_bad_input():
+    with pytest.raises(ValueError, match="u_t"):
+        velocity_motion_jacobians(X0, [1.0], 1.0)
+    with pytest.raises(ValueError, match="dt"):
+        velocity_motion_jacobians(X0, [1.0, 0.0], -1.0)

@@ -6,7 +6,8 @@ r"""Probabilistic motion models of *Probabilistic Robotics*, chapter 5.
 * :func:`motion_model_odometry` — Table 5.5, the odometry motion model's density;
 * :func:`sample_motion_model_odometry` — Table 5.6, its sampler;
 * :func:`velocity_motion` — the noise-free motion :math:`g(u_t, x_{t-1})` (Table 7.2,
-  line 5), exact for :math:`\omega = 0`;
+  line 5), exact for :math:`\omega = 0`, and :func:`velocity_motion_jacobians`, its
+  Jacobians :math:`G` and :math:`V` (Table 7.2, lines 3–4);
 * :func:`odometry_deltas` — :math:`(\delta_{rot1}, \delta_{trans}, \delta_{rot2})` of two
   poses (Table 5.5, lines 2–4, with wrapped angles).
 
@@ -50,6 +51,7 @@ __all__ = [
     "sample_motion_model_odometry",
     "sample_motion_model_velocity",
     "velocity_motion",
+    "velocity_motion_jacobians",
 ]
 
 _NOISE_FORMS = ("variance", "std")
@@ -160,6 +162,81 @@ def velocity_motion(x_prev, u_t, dt):
     x, y, th = _unpack(x_prev)
     v, w = _unpack(u_t)
     return _stack(*_arc(x, y, th, v, w, dt))
+
+
+def _sinc_derivative(h):
+    r"""``d/dh [sin(h) / h] = (h cos h - sin h) / h²``, without cancellation near 0.
+
+    For :math:`|h| < 0.1` the Taylor series :math:`-h/3 + h^3/30 - h^5/840 + h^7/45360 -
+    h^9/3991680` (next term below :math:`10^{-18}` relative); elsewhere the closed form,
+    which loses at most two digits there.
+    """
+    h = np.asarray(h, dtype=float)
+    small = np.abs(h) < 0.1
+    h2 = h * h
+    series = h * (-1 / 3 + h2 * (1 / 30 + h2 * (-1 / 840 + h2 * (1 / 45360 - h2 / 3991680))))
+    safe = np.where(small, 1.0, h)
+    closed = (safe * np.cos(safe) - np.sin(safe)) / (safe * safe)
+    return np.where(small, series, closed)
+
+
+def velocity_motion_jacobians(x_prev, u_t, dt):
+    r"""Return the Jacobians :math:`G = \partial g / \partial x_{t-1}` and :math:`V = \partial g / \partial u_t`.
+
+    *Probabilistic Robotics*, Table 7.2, lines 3 and 4, for the noise-free motion
+    :math:`g` of :func:`velocity_motion`. With :math:`h = \omega\Delta t / 2`,
+    :math:`S = \sin h / h` and :math:`m = \theta + h` (the chord form of :math:`g`):
+
+    .. math::
+        G = \begin{pmatrix} 1 & 0 & -v\Delta t\, S \sin m \\
+                            0 & 1 & v\Delta t\, S \cos m \\
+                            0 & 0 & 1 \end{pmatrix},\qquad
+        V = \begin{pmatrix} \Delta t\, S \cos m &
+                              \tfrac12 v\Delta t^2 (S' \cos m - S \sin m) \\
+                            \Delta t\, S \sin m &
+                              \tfrac12 v\Delta t^2 (S' \sin m + S \cos m) \\
+                            0 & \Delta t \end{pmatrix}.
+
+    These equal the book's entries, e.g. :math:`-\frac{v}{\omega}\cos\theta +
+    \frac{v}{\omega}\cos(\theta + \omega\Delta t)` for :math:`G_{13}`, but stay finite
+    and exact at :math:`\omega = 0` (where the book's :math:`V` divides by
+    :math:`\omega^2`): there :math:`S = 1`, :math:`S' = 0`.
+
+    Parameters
+    ----------
+    x_prev : array_like, shape (..., 3)
+        Poses :math:`(x, y, \theta)`.
+    u_t : array_like, shape (..., 2)
+        Controls :math:`(v, \omega)`.
+    dt : float
+        Time step, > 0.
+
+    Returns
+    -------
+    G : ndarray, shape broadcast(...) + (3, 3)
+    V : ndarray, shape broadcast(...) + (3, 2)
+    """
+    x_prev = check.poses(x_prev, "x_prev")
+    u_t = check.vectors(u_t, "u_t", 2, "v, omega")
+    dt = check.positive_scalar(dt, "dt")
+    th = _unpack(x_prev)[2]
+    v, w = _unpack(u_t)
+    h = w * (0.5 * dt)
+    sinc, dsinc = _sinc(h), _sinc_derivative(h)
+    mid = th + h
+    c, s = np.cos(mid), np.sin(mid)
+    batch = np.broadcast_shapes(th.shape, v.shape)
+    G = np.zeros((*batch, 3, 3))
+    G[..., 0, 0] = G[..., 1, 1] = G[..., 2, 2] = 1.0
+    G[..., 0, 2] = -v * dt * sinc * s
+    G[..., 1, 2] = v * dt * sinc * c
+    V = np.zeros((*batch, 3, 2))
+    V[..., 0, 0] = dt * sinc * c
+    V[..., 1, 0] = dt * sinc * s
+    V[..., 0, 1] = 0.5 * v * dt**2 * (dsinc * c - sinc * s)
+    V[..., 1, 1] = 0.5 * v * dt**2 * (dsinc * s + sinc * c)
+    V[..., 2, 1] = dt
+    return G, V
 
 
 def _invert_velocity(x_t, x_prev, dt):
