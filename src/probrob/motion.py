@@ -344,7 +344,9 @@ def motion_model_velocity(
     radius is signed, so :math:`\hat v` is right for right turns and reversing (the
     unsigned :math:`r^*` flips it); straight-line motion, where :math:`\mu` divides by
     zero, gives its finite limit; :math:`\hat\gamma` subtracts :math:`\hat\omega`, not
-    :math:`\omega`.
+    :math:`\omega`. A rotation in place (:math:`x', y' = x, y`, where every
+    :math:`\hat\omega` fits) is read as the limit of arcs with :math:`\hat v \to 0`:
+    the whole turn is :math:`\hat\omega\Delta t` and :math:`\hat\gamma = 0`.
 
     Parameters
     ----------
