@@ -19,8 +19,10 @@ from .distributions import (
     sample_triangular_distribution,
 )
 from .motion import (
+    apply_odometry_deltas,
     motion_model_odometry,
     motion_model_velocity,
+    odometry_deltas,
     sample_motion_model_odometry,
     sample_motion_model_velocity,
     velocity_motion,
@@ -207,7 +209,7 @@ def _model_calls(model, u_t, x_prev, alpha, dt, noise, prob, sample):
 
     else:
         u = check.finite(u_t, "u_t")
-        end = sample_motion_model_odometry(u, x_prev, np.zeros(4))  # noise-free
+        end = apply_odometry_deltas(x_prev, *odometry_deltas(u[..., 0, :], u[..., 1, :]))
 
         def density(xy):
             return motion_model_odometry(
