@@ -91,3 +91,20 @@ def test_explorers_build_sliders_for_every_alpha():
     assert vel_names == ["α1", "α2", "α3", "α4", "α5", "α6"]
     assert odo_names == ["α1", "α2", "α3", "α4"]
     assert all(not c.continuous_update for c in vel.children[0].children[0].children)
+
+
+@pytest.mark.parametrize(
+    ("model", "u", "alpha"),
+    [
+        ("velocity", [0.0, 0.0], [0.0] * 6),  # at rest, no noise: every sample on the start
+        ("velocity", [0.0, 0.0], [0.1] * 6),  # at rest: zero variances, a point mass
+        ("velocity", [0.0, 2.0], [0.1] * 6),  # rotation in place
+        ("velocity", [1.0, 0.0], [0.0] * 6),  # straight, noise-free
+        ("odometry", np.zeros((2, 3)), [0.5] * 4),  # odometry reports no motion
+        ("odometry", np.array([[0, 0, 0], [0, 0, 1.0]]), [0.5] * 4),  # spin in place
+    ],
+)
+def test_degenerate_settings_draw_without_warnings(model, u, alpha):
+    # pytest turns every warning into an error (pyproject): a NaN or a division by zero fails
+    ax = plot_motion_model(model, u, [0.0, 0.0, 0.0], alpha, grid=40, n_headings=10)
+    assert np.all(np.isfinite(ax.collections[1].get_offsets()))
