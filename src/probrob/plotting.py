@@ -2,7 +2,8 @@ r"""Figures for the book: every function takes ``ax=None`` and returns the ``Axe
 
 Plotting is kept apart from the maths: these functions call the models of
 :mod:`probrob.motion` and :mod:`probrob.distributions` and draw what they return.
-They never call ``plt.show()``; matplotlib is imported only when a figure is drawn.
+They never show a figure themselves (the caller or Jupyter does); matplotlib is imported
+only when a figure is drawn.
 """
 
 from __future__ import annotations
