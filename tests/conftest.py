@@ -77,5 +77,23 @@ def chi_square_pvalue(samples, density_values, grid, k=6, min_expected=5.0):
 
 
 @pytest.fixture
+def sampler_for():
+    """The exact sampler of each density of Table 5.2: normal -> numpy's exact normal."""
+    from functools import partial
+
+    from probrob.distributions import (
+        prob_normal_distribution,
+        prob_triangular_distribution,
+        sample_normal_distribution,
+        sample_triangular_distribution,
+    )
+
+    return {
+        prob_normal_distribution: partial(sample_normal_distribution, method="exact"),
+        prob_triangular_distribution: sample_triangular_distribution,
+    }.__getitem__
+
+
+@pytest.fixture
 def chi_square():
     return chi_square_pvalue

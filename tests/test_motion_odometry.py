@@ -13,7 +13,6 @@ from probrob.distributions import (
     prob_normal_distribution,
     prob_triangular_distribution,
     sample_normal_distribution,
-    sample_triangular_distribution,
 )
 from probrob.motion import (
     apply_odometry_deltas,
@@ -230,17 +229,15 @@ CASES = {
         noise="variance",
     ),
 }
-SAMPLER_OF = {
-    prob_normal_distribution: EXACT,
-    prob_triangular_distribution: sample_triangular_distribution,
-}
 
 
 @pytest.mark.parametrize("case", CASES)
-def test_pose_density_integrates_to_one_and_matches_the_sampler(case, grid3, chi_square):
+def test_pose_density_integrates_to_one_and_matches_the_sampler(
+    case, grid3, chi_square, sampler_for
+):
     c = CASES[case]
     samples = sample_motion_model_odometry(
-        c["u"], X0, c["alpha"], sample=SAMPLER_OF[c["prob"]], noise=c["noise"], size=60_000, rng=4
+        c["u"], X0, c["alpha"], sample=sampler_for(c["prob"]), noise=c["noise"], size=60_000, rng=4
     )
     grid = grid3.around(samples, 96)
     values = motion_model_odometry(

@@ -13,7 +13,6 @@ from probrob.distributions import (
     prob_normal_distribution,
     prob_triangular_distribution,
     sample_normal_distribution,
-    sample_triangular_distribution,
 )
 from probrob.motion import (
     _invert_velocity,
@@ -288,18 +287,16 @@ CASES = {
         u=[1.0, 0.5], alpha=ALPHA, prob=prob_triangular_distribution, noise="variance"
     ),
 }
-SAMPLER_OF = {
-    prob_normal_distribution: EXACT,
-    prob_triangular_distribution: sample_triangular_distribution,
-}
 
 
 @pytest.mark.parametrize("case", CASES)
-def test_pose_density_integrates_to_one_and_matches_the_sampler(case, grid3, chi_square):
+def test_pose_density_integrates_to_one_and_matches_the_sampler(
+    case, grid3, chi_square, sampler_for
+):
     c = CASES[case]
     kw = dict(noise=c["noise"])
     samples = sample_motion_model_velocity(
-        c["u"], X0, 1.0, c["alpha"], sample=SAMPLER_OF[c["prob"]], size=60_000, rng=11, **kw
+        c["u"], X0, 1.0, c["alpha"], sample=sampler_for(c["prob"]), size=60_000, rng=11, **kw
     )
     grid = grid3.around(samples, 96)
     values = motion_model_velocity(

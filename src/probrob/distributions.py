@@ -26,8 +26,28 @@ __all__ = [
 _SQRT6 = np.sqrt(6.0)
 
 
-def _point_mass(a: np.ndarray) -> np.ndarray:
-    return np.where(a == 0, np.inf, 0.0)
+def _zero_mean_density(a, b2, formula):
+    """Check the inputs and evaluate ``formula(a, b2)`` where ``b2 > 0``.
+
+    Where ``b2 == 0`` the density is the limit of a point mass: ``inf`` at ``a == 0``,
+    ``0`` elsewhere. A single positive variance (the common case: one variance for many
+    points) skips the masking.
+    """
+    a = finite(a, "a")
+    b2 = variance(b2, "b2")
+    if b2.ndim == 0 and b2 > 0:
+        return scalar_or_array(formula(a, b2))
+    positive = b2 > 0
+    p = formula(a, np.where(positive, b2, 1.0))
+    return scalar_or_array(np.where(positive, p, np.where(a == 0, np.inf, 0.0)))
+
+
+def _normal(a, b2):
+    return np.exp(np.square(a) * (-0.5 / b2)) / np.sqrt(2.0 * np.pi * b2)
+
+
+def _triangular(a, b2):
+    return np.maximum(1.0 / (_SQRT6 * np.sqrt(b2)) - np.abs(a) * (1.0 / (6.0 * b2)), 0.0)
 
 
 def prob_normal_distribution(a, b2):
@@ -50,13 +70,7 @@ def prob_normal_distribution(a, b2):
     p : float or ndarray, broadcast shape of ``a`` and ``b2``
         Density values. Where ``b2 == 0`` the limit of a point mass.
     """
-    a = finite(a, "a")
-    b2 = variance(b2, "b2")
-    if b2.ndim == 0 and b2 > 0:  # the common case: one variance for many points
-        return scalar_or_array(np.exp(np.square(a) * (-0.5 / b2)) / np.sqrt(2.0 * np.pi * b2))
-    safe = np.where(b2 > 0, b2, 1.0)
-    p = np.exp(-0.5 * a * a / safe) / np.sqrt(2.0 * np.pi * safe)
-    return scalar_or_array(np.where(b2 > 0, p, _point_mass(a)))
+    return _zero_mean_density(a, b2, _normal)
 
 
 def prob_triangular_distribution(a, b2):
@@ -81,14 +95,7 @@ def prob_triangular_distribution(a, b2):
     p : float or ndarray, broadcast shape of ``a`` and ``b2``
         Density values. Where ``b2 == 0`` the limit of a point mass.
     """
-    a = finite(a, "a")
-    b2 = variance(b2, "b2")
-    if b2.ndim == 0 and b2 > 0:
-        peak = 1.0 / (_SQRT6 * np.sqrt(b2))
-        return scalar_or_array(np.maximum(peak - np.abs(a) * (1.0 / (6.0 * b2)), 0.0))
-    safe = np.where(b2 > 0, b2, 1.0)
-    p = np.maximum(0.0, 1.0 / (_SQRT6 * np.sqrt(safe)) - np.abs(a) / (6.0 * safe))
-    return scalar_or_array(np.where(b2 > 0, p, _point_mass(a)))
+    return _zero_mean_density(a, b2, _triangular)
 
 
 _BLOCK = 1 << 14  # columns of uniforms per block: 12 × 16384 doubles = 1.5 MB, cache-sized
