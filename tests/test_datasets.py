@@ -1,0 +1,388 @@
+"""Tests of probrob.datasets: the real files (against the numbers in each SOURCE.md), the
+search order, the errors for missing and corrupt files, and bad arguments.
+
+The real-file tests need ``../shared/data`` beside the repository (or ``$PROBROB_DATA``); CI
+has it. They are skipped, with the reason, only when no candidate folder exists at all — a
+loader bug that raises ``DatasetNotFoundError`` while the folder is there fails the test.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from probrob import datasets
+from probrob.datasets import (
+    MRCLAM,
+    DatasetCorruptError,
+    DatasetNotFoundError,
+    load_mrclam,
+)
+
+_DEFAULT_DATA = Path(os.path.normpath(Path(datasets.__file__).resolve().parents[2] / ".."))
+_DEFAULT_DATA = _DEFAULT_DATA / "shared" / "data"
+
+
+def _data_folder(folder: str) -> Path | None:
+    env = os.environ.get("PROBROB_DATA")
+    for base in ([Path(env)] if env else []) + [_DEFAULT_DATA]:
+        if (base / folder).is_dir():
+            return base / folder
+    return None
+
+
+MRCLAM_DIR = _data_folder("mrclam_dataset7_robot1")
+needs_mrclam = pytest.mark.skipif(
+    MRCLAM_DIR is None,
+    reason=f"MRCLAM data absent: no mrclam_dataset7_robot1 under $PROBROB_DATA or {_DEFAULT_DATA}",
+)
+
+# From mrclam_dataset7_robot1/SOURCE.md, written out here independently of Barcodes.dat.
+ROBOT_BARCODES = {1: 5, 2: 14, 3: 41, 4: 32, 5: 23}
+LANDMARK_BARCODES = [63, 81, 7, 70, 45, 27, 18, 54, 61, 90, 36, 16, 9, 72, 25]  # subjects 6..20
+
+
+@pytest.fixture(scope="module")
+def mrclam() -> MRCLAM:
+    return load_mrclam()
+
+
+# --------------------------------------------------------------------------- MRCLAM, real files
+
+
+@needs_mrclam
+def test_mrclam_shapes_and_counts(mrclam):
+    assert mrclam.odometry_t.shape == (58598,)
+    assert mrclam.odometry.shape == (58598, 2)
+    assert mrclam.ground_truth_t.shape == (58389,)
+    assert mrclam.ground_truth.shape == (58389, 3)
+    assert mrclam.measurement_t.shape == (2578,)
+    assert mrclam.measurements.shape == (2578, 3)
+    assert mrclam.correspondences.shape == (2578,)
+    assert mrclam.sighting_t.shape == (650,)
+    assert mrclam.sightings.shape == (650, 2)
+    assert mrclam.sighted_robot.shape == (650,)
+    assert mrclam.landmarks.shape == (15, 3)
+    assert mrclam.landmark_std.shape == (15, 2)
+    assert mrclam.barcodes.shape == (20, 2)
+    for name in ("odometry_t", "odometry", "ground_truth", "measurements", "landmarks"):
+        assert getattr(mrclam, name).dtype == np.float64
+    assert np.issubdtype(mrclam.correspondences.dtype, np.integer)
+    # 19 distinct barcodes appear (SOURCE.md): 15 landmarks + robots 2..5.
+    seen = set(mrclam.measurements[:, 2].astype(int)) | {
+        ROBOT_BARCODES[r] for r in mrclam.sighted_robot.tolist()
+    }
+    assert len(seen) == 19
+
+
+@needs_mrclam
+def test_mrclam_time_is_monotonic_and_spans_match_source(mrclam):
+    assert np.all(np.diff(mrclam.odometry_t) > 0)
+    assert np.all(np.diff(mrclam.ground_truth_t) > 0)
+    assert np.all(np.diff(mrclam.measurement_t) >= 0)
+    assert np.all(np.diff(mrclam.sighting_t) >= 0)
+    np.testing.assert_allclose(mrclam.odometry_t[[0, -1]], [1248446188.323, 1248447082.113])
+    np.testing.assert_allclose(mrclam.ground_truth_t[[0, -1]], [1248446182.116, 1248447082.106])
+    all_t = np.concatenate([mrclam.measurement_t, mrclam.sighting_t])
+    np.testing.assert_allclose([all_t.min(), all_t.max()], [1248446189.249, 1248447082.053])
+    dt = np.diff(mrclam.odometry_t)
+    assert np.median(dt) == pytest.approx(0.010, abs=5e-4)
+    assert dt.max() == pytest.approx(1.00, abs=0.005)
+    assert (mrclam.odometry_t.size - 1) / np.ptp(mrclam.odometry_t) == pytest.approx(
+        65.6, abs=0.05
+    )
+
+
+@needs_mrclam
+def test_mrclam_value_ranges_match_source(mrclam):
+    v, w = mrclam.odometry.T
+    np.testing.assert_allclose([v.min(), v.max()], [0.0, 0.086], atol=5e-4)
+    np.testing.assert_allclose([w.min(), w.max()], [-0.398, 0.432], atol=5e-4)
+    x, y, th = mrclam.ground_truth.T
+    np.testing.assert_allclose(
+        [x.min(), x.max(), y.min(), y.max()], [0.767, 3.915, -3.418, 4.229], atol=5e-4
+    )
+    np.testing.assert_allclose([th.min(), th.max()], [-3.1414, 3.1411], atol=5e-5)
+    r = np.concatenate([mrclam.measurements[:, 0], mrclam.sightings[:, 0]])
+    b = np.concatenate([mrclam.measurements[:, 1], mrclam.sightings[:, 1]])
+    np.testing.assert_allclose([r.min(), r.max(), b.min(), b.max()], [1.084, 7.479, -0.575, 0.478])
+    lx, ly = mrclam.landmarks[:, 0], mrclam.landmarks[:, 1]
+    np.testing.assert_allclose(
+        [lx.min(), lx.max(), ly.min(), ly.max()], [0.588, 3.472, -4.468, 4.532], atol=5e-4
+    )
+    assert mrclam.landmark_std.max() <= 0.65e-3
+
+
+@needs_mrclam
+def test_mrclam_barcode_mapping(mrclam):
+    # The landmark rows are subjects 6..20, each carrying its barcode as signature.
+    np.testing.assert_array_equal(mrclam.landmark_subject, np.arange(6, 21))
+    np.testing.assert_array_equal(mrclam.landmarks[:, 2], LANDMARK_BARCODES)
+    # Every measurement's signature is its landmark's signature.
+    np.testing.assert_array_equal(
+        mrclam.measurements[:, 2], mrclam.landmarks[mrclam.correspondences, 2]
+    )
+    assert mrclam.correspondences.min() >= 0 and mrclam.correspondences.max() <= 14
+    assert set(mrclam.sighted_robot.tolist()) == {2, 3, 4, 5}
+    # Independently of the loader: re-read the raw file and map with SOURCE.md's table.
+    raw = np.loadtxt(MRCLAM_DIR / "Robot1_Measurement.dat")
+    robot_of = {b: r for r, b in ROBOT_BARCODES.items()}
+    is_robot = np.isin(raw[:, 1], list(robot_of))
+    assert is_robot.sum() == 650 and (~is_robot).sum() == 2578
+    np.testing.assert_array_equal(raw[~is_robot][:, [2, 3, 1]], mrclam.measurements)
+    np.testing.assert_array_equal(raw[~is_robot][:, 0], mrclam.measurement_t)
+    expected_c = [LANDMARK_BARCODES.index(int(b)) for b in raw[~is_robot][:, 1]]
+    np.testing.assert_array_equal(mrclam.correspondences, expected_c)
+    np.testing.assert_array_equal(
+        mrclam.sighted_robot, [robot_of[int(b)] for b in raw[is_robot][:, 1]]
+    )
+    np.testing.assert_array_equal(raw[is_robot][:, 2:4], mrclam.sightings)
+
+
+@needs_mrclam
+def test_mrclam_measurements_agree_with_ground_truth_as_source_says(mrclam):
+    """SOURCE.md: range residual median +0.044 m, robust σ 0.067 m; bearing −0.0009, 0.018 rad."""
+    pose = mrclam.ground_truth_at(mrclam.measurement_t)
+    lm = mrclam.landmarks[mrclam.correspondences]
+    dx, dy = lm[:, 0] - pose[:, 0], lm[:, 1] - pose[:, 1]
+    r_hat = np.hypot(dx, dy)
+    phi_hat = np.arctan2(dy, dx) - pose[:, 2]
+    dr = mrclam.measurements[:, 0] - r_hat
+    dphi = np.angle(np.exp(1j * (mrclam.measurements[:, 1] - phi_hat)))
+
+    def robust_sigma(e):
+        return 1.4826 * np.median(np.abs(e - np.median(e)))
+
+    assert np.median(dr) == pytest.approx(0.044, abs=0.0015)
+    assert robust_sigma(dr) == pytest.approx(0.067, abs=0.0015)
+    assert np.mean(np.abs(dr) > 0.5) == pytest.approx(0.0047, abs=0.0005)
+    assert np.median(dphi) == pytest.approx(-0.0009, abs=0.0002)
+    assert robust_sigma(dphi) == pytest.approx(0.018, abs=0.0015)
+    assert np.abs(dphi).max() < 0.2
+
+
+@needs_mrclam
+def test_mrclam_arrays_are_read_only_and_loads_are_cached(mrclam):
+    with pytest.raises(ValueError, match="read-only"):
+        mrclam.odometry[0, 0] = 1.0
+    assert load_mrclam() is mrclam
+    assert load_mrclam(MRCLAM_DIR) is load_mrclam(MRCLAM_DIR.parent)  # folder or its parent
+
+
+@needs_mrclam
+def test_mrclam_stream_real(mrclam):
+    steps = mrclam.stream()
+    t = mrclam.odometry_t
+    assert len(steps) == t.size - 1 == 58597
+    np.testing.assert_array_equal([s.t for s in steps], t[1:])
+    np.testing.assert_array_equal([s.dt for s in steps], np.diff(t))
+    np.testing.assert_array_equal(np.stack([s.u for s in steps]), mrclam.odometry[:-1])
+    # Every landmark measurement exactly once, in file order, inside its interval (t - dt, t].
+    np.testing.assert_array_equal(np.concatenate([s.z for s in steps]), mrclam.measurements)
+    np.testing.assert_array_equal(np.concatenate([s.c for s in steps]), mrclam.correspondences)
+    for s in steps:
+        assert s.z.shape == (s.c.size, 3) == (s.z_t.size, 3)
+        if s.c.size:
+            assert np.all(s.z_t > s.t - s.dt) and np.all(s.z_t <= s.t)
+    # Robot sightings are dropped: no robot barcode among the signatures.
+    sig = np.concatenate([s.z[:, 2] for s in steps])
+    assert not np.isin(sig, list(ROBOT_BARCODES.values())).any()
+    assert sum(s.c.size > 0 for s in steps) > 500
+    again = mrclam.stream()  # built once, then a new list of the same steps
+    assert again is not steps and again[1234] is steps[1234]
+    with pytest.raises(ValueError, match="read-only"):
+        steps[0].u[0] = 1.0
+
+
+# --------------------------------------------------------------------------- stream, synthetic
+
+
+def _synthetic(odometry_t, measurement_t) -> MRCLAM:
+    n, k = len(odometry_t), len(measurement_t)
+    z = np.column_stack([np.arange(k) + 1.0, np.zeros(k), np.full(k, 63.0)])
+    return MRCLAM(
+        odometry_t=np.asarray(odometry_t, float),
+        odometry=np.column_stack([np.arange(n) * 0.1, np.zeros(n)]),
+        ground_truth_t=np.array([0.0, 10.0]),
+        ground_truth=np.array([[0.0, 0.0, 3.0], [10.0, -5.0, -3.0]]),
+        measurement_t=np.asarray(measurement_t, float),
+        measurements=z,
+        correspondences=np.zeros(k, int),
+        sighting_t=np.zeros(0),
+        sightings=np.zeros((0, 2)),
+        sighted_robot=np.zeros(0, int),
+        landmarks=np.array([[1.0, 2.0, 63.0]]),
+        landmark_std=np.zeros((1, 2)),
+        landmark_subject=np.array([6]),
+        barcodes=np.array([[6, 63]]),
+        folder="synthetic",
+    )
+
+
+def test_stream_attaches_measurements_to_half_open_intervals():
+    # Commands at 1, 2, 4; measurements before, at t0, inside, at the boundaries, after.
+    ds = _synthetic([1.0, 2.0, 4.0], [0.5, 1.0, 1.5, 2.0, 2.0, 3.0, 4.0, 4.5])
+    steps = ds.stream()
+    assert [s.t for s in steps] == [2.0, 4.0]
+    assert [s.dt for s in steps] == [1.0, 2.0]
+    np.testing.assert_array_equal(steps[1].u, [0.1, 0.0])
+    # (t0 - inf, 2] -> step 0 (earlier ones included); (2, 4] -> step 1; 4.5 dropped.
+    np.testing.assert_array_equal(steps[0].z_t, [0.5, 1.0, 1.5, 2.0, 2.0])
+    np.testing.assert_array_equal(steps[1].z_t, [3.0, 4.0])
+    np.testing.assert_array_equal(steps[0].z[:, 0], [1, 2, 3, 4, 5])
+    np.testing.assert_array_equal(steps[1].z[:, 0], [6, 7])
+
+
+def test_stream_without_measurements():
+    steps = _synthetic([0.0, 0.5, 1.5], []).stream()
+    assert len(steps) == 2
+    assert all(s.z.shape == (0, 3) and s.c.shape == (0,) for s in steps)
+
+
+def test_ground_truth_at_interpolates_heading_across_pi():
+    ds = _synthetic([0.0, 1.0], [])
+    pose = ds.ground_truth_at([0.0, 5.0, 10.0])
+    np.testing.assert_allclose(pose[:, :2], [[0, 0], [5, -2.5], [10, -5]])
+    # 3 -> -3 the short way (through π), midpoint at π (wrapped to -π).
+    assert abs(np.angle(np.exp(1j * (pose[1, 2] - np.pi)))) < 1e-12
+    np.testing.assert_allclose(pose[[0, 2], 2], [3.0, -3.0])
+    assert ds.ground_truth_at(2.5).shape == (3,)
+    with pytest.raises(ValueError, match="t must lie within"):
+        ds.ground_truth_at(10.5)
+    with pytest.raises(ValueError, match="t must be finite"):
+        ds.ground_truth_at(np.nan)
+
+
+# --------------------------------------------------------------------------- search and errors
+
+
+@pytest.fixture
+def no_defaults(monkeypatch, tmp_path):
+    """No $PROBROB_DATA and a repository whose ../shared/data does not exist."""
+    monkeypatch.delenv("PROBROB_DATA", raising=False)
+    monkeypatch.setattr(datasets, "_REPOSITORY", tmp_path / "nowhere" / "repo")
+    return tmp_path
+
+
+def _link_folder(src: Path, dst: Path, skip=()) -> Path:
+    dst.mkdir(parents=True)
+    for f in src.iterdir():
+        if f.name not in skip:
+            (dst / f.name).symlink_to(f)
+    return dst
+
+
+def test_missing_everywhere_names_file_places_and_url(no_defaults, monkeypatch):
+    env = no_defaults / "env"
+    monkeypatch.setenv("PROBROB_DATA", str(env))
+    with pytest.raises(DatasetNotFoundError) as info:
+        load_mrclam()
+    msg = str(info.value)
+    assert isinstance(info.value, FileNotFoundError)
+    assert "'Barcodes.dat' not found" in msg
+    assert str(env / "mrclam_dataset7_robot1") in msg
+    assert str(no_defaults / "nowhere" / "shared" / "data" / "mrclam_dataset7_robot1") in msg
+    assert "http://asrl.utias.utoronto.ca/datasets/mrclam/" in msg
+    assert "raw.githubusercontent.com/ericguerrero/MUSI-lab-session-1" in msg
+    assert info.value.file == "Barcodes.dat"
+    assert len(info.value.places) == 2
+
+
+def test_missing_with_explicit_empty_folder(no_defaults):
+    empty = no_defaults / "empty"
+    empty.mkdir()
+    with pytest.raises(DatasetNotFoundError, match="PROBROB_DATA is not set") as info:
+        load_mrclam(empty)
+    assert str(empty) in str(info.value)
+    assert "asrl.utias.utoronto.ca" in str(info.value)
+
+
+@needs_mrclam
+def test_one_missing_file_is_named(no_defaults):
+    folder = _link_folder(MRCLAM_DIR, no_defaults / "partial", skip={"Robot1_Odometry.dat"})
+    with pytest.raises(
+        DatasetNotFoundError, match=re.escape("'Robot1_Odometry.dat' not found")
+    ) as info:
+        load_mrclam(folder)
+    assert f"{folder}  (the path argument; exists but has no Robot1_Odometry.dat)" in str(
+        info.value
+    )
+
+
+@needs_mrclam
+@pytest.mark.parametrize("name", ["Barcodes.dat", "Robot1_Measurement.dat"])
+def test_corrupt_file_raises(no_defaults, name):
+    folder = _link_folder(MRCLAM_DIR, no_defaults / "corrupt", skip={name})
+    shutil.copyfile(MRCLAM_DIR / name, folder / name)
+    data = bytearray((folder / name).read_bytes())
+    data[len(data) // 2] ^= 0x01  # one flipped bit, same size
+    (folder / name).write_bytes(bytes(data))
+    with pytest.raises(DatasetCorruptError, match=re.escape(name)) as info:
+        load_mrclam(folder)
+    assert isinstance(info.value, ValueError)
+    assert "sha256" in str(info.value) and "raw.githubusercontent.com" in str(info.value)
+    assert info.value.file == str(folder / name)
+
+
+@needs_mrclam
+def test_truncated_file_raises(no_defaults):
+    name = "Robot1_Measurement.dat"
+    folder = _link_folder(MRCLAM_DIR, no_defaults / "short", skip={name})
+    (folder / name).write_bytes((MRCLAM_DIR / name).read_bytes()[:-10])
+    with pytest.raises(DatasetCorruptError, match="126099 bytes instead of 126109"):
+        load_mrclam(folder)
+
+
+@needs_mrclam
+def test_probrob_data_is_honoured(no_defaults, monkeypatch):
+    env = no_defaults / "env"
+    _link_folder(MRCLAM_DIR, env / "mrclam_dataset7_robot1")
+    monkeypatch.setenv("PROBROB_DATA", str(env))
+    ds = load_mrclam()
+    assert ds.folder == str(env / "mrclam_dataset7_robot1")
+    assert ds.odometry.shape == (58598, 2)
+
+
+@needs_mrclam
+def test_probrob_data_without_the_dataset_falls_back_to_shared(monkeypatch, tmp_path):
+    monkeypatch.setenv("PROBROB_DATA", str(tmp_path))
+    assert Path(load_mrclam().folder) == _DEFAULT_DATA / "mrclam_dataset7_robot1"
+
+
+def test_sha256_is_verified_once_per_file_state(tmp_path, monkeypatch):
+    calls = []
+    real = datasets.hashlib.file_digest
+
+    def counting(fh, name):
+        calls.append(name)
+        return real(fh, name)
+
+    monkeypatch.setattr(datasets.hashlib, "file_digest", counting)
+    spec = datasets._LNPR.files[0]
+    f = tmp_path / spec.name
+    f.write_bytes(b"x" * spec.size)
+    for _ in range(2):
+        with pytest.raises(DatasetCorruptError):
+            datasets._verify(datasets._LNPR, f)
+    assert len(calls) == 2  # a failed check is not remembered
+    monkeypatch.setattr(datasets, "_VERIFIED", {datasets._stamp(f): spec.sha256})
+    datasets._verify(datasets._LNPR, f)  # remembered as verified: no hashing
+    assert len(calls) == 2
+
+
+@pytest.mark.parametrize("bad", [3, 1.5, ["a"]])
+def test_path_of_wrong_type(bad):
+    with pytest.raises(ValueError, match="path must be a folder"):
+        load_mrclam(bad)
+
+
+def test_path_that_is_a_file(tmp_path):
+    f = tmp_path / "file.txt"
+    f.write_text("not a folder")
+    with pytest.raises(ValueError, match="path must be a folder, got the file"):
+        load_mrclam(f)
