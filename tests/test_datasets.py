@@ -21,6 +21,8 @@ from probrob.datasets import (
     MRCLAM,
     DatasetCorruptError,
     DatasetNotFoundError,
+    load_intel_lab,
+    load_lnpr_wall,
     load_mrclam,
 )
 
@@ -40,6 +42,17 @@ MRCLAM_DIR = _data_folder("mrclam_dataset7_robot1")
 needs_mrclam = pytest.mark.skipif(
     MRCLAM_DIR is None,
     reason=f"MRCLAM data absent: no mrclam_dataset7_robot1 under $PROBROB_DATA or {_DEFAULT_DATA}",
+)
+
+INTEL_DIR = _data_folder("intel_lab_corrected")
+needs_intel = pytest.mark.skipif(
+    INTEL_DIR is None,
+    reason=f"Intel lab data absent: no intel_lab_corrected under $PROBROB_DATA or {_DEFAULT_DATA}",
+)
+LNPR_DIR = _data_folder("lnpr_wall_lidar")
+needs_lnpr = pytest.mark.skipif(
+    LNPR_DIR is None,
+    reason=f"LNPR data absent: no lnpr_wall_lidar under $PROBROB_DATA or {_DEFAULT_DATA}",
 )
 
 # From mrclam_dataset7_robot1/SOURCE.md, written out here independently of Barcodes.dat.
@@ -386,3 +399,190 @@ def test_path_that_is_a_file(tmp_path):
     f.write_text("not a folder")
     with pytest.raises(ValueError, match="path must be a folder, got the file"):
         load_mrclam(f)
+
+
+# --------------------------------------------------------------------------- Intel lab
+
+
+@pytest.fixture(scope="module")
+def intel():
+    return load_intel_lab()
+
+
+@needs_intel
+def test_intel_shapes_and_first_scan(intel):
+    assert intel.t.shape == (910,)
+    assert intel.poses.shape == (910, 3)
+    assert intel.ranges.shape == (910, 180)
+    assert intel.neff.shape == (910,)
+    assert intel.max_range == 81.83
+    assert intel.laser_offset == 0.0
+    np.testing.assert_allclose(np.rad2deg(intel.beam_angles), np.arange(-90.0, 90.0), atol=1e-12)
+    # The first FLASER line of the log, read by eye.
+    np.testing.assert_array_equal(intel.ranges[0, :4], [1.09, 1.08, 1.08, 1.07])
+    np.testing.assert_array_equal(intel.ranges[0, -2:], [1.22, 1.23])
+    np.testing.assert_array_equal(intel.poses[0], [0.600266, -0.0320327, -0.354665])
+    assert intel.t[0] == 32.9068
+    assert intel.t[-1] == 2683.77
+    assert intel.neff.min() == pytest.approx(2.1, abs=0.01) and intel.neff.max() == 15
+
+
+@needs_intel
+def test_intel_statistics_match_source(intel):
+    r = intel.ranges
+    assert r.min() == 0.23
+    assert intel.no_return.sum() == 4172
+    assert intel.no_return.mean() == pytest.approx(0.0255, abs=5e-5)
+    hits = r[~intel.no_return]
+    assert hits.max() == 25.38
+    np.testing.assert_allclose(
+        np.percentile(hits, [1, 5, 50, 95, 99]), [0.45, 0.63, 2.00, 7.71, 13.53], atol=0.005
+    )
+    lo, hi = intel.poses.min(axis=0), intel.poses.max(axis=0)
+    np.testing.assert_allclose(lo, [-9.23, -22.13, -3.14], atol=0.005)
+    np.testing.assert_allclose(hi, [16.55, 3.90, 3.25], atol=0.005)
+    step = np.hypot(*np.diff(intel.poses[:, :2], axis=0).T)
+    assert np.median(step) == pytest.approx(0.67, abs=0.005)
+    assert step.max() == pytest.approx(1.16, abs=0.01)
+    dt = np.diff(intel.t)
+    assert np.sum(dt < 0) == 4 and dt.min() == pytest.approx(-0.86)  # kept as recorded
+    assert np.median(dt) == pytest.approx(3.35, abs=0.005)
+
+
+def _endpoints(pose, ranges, angles, valid):
+    a = pose[2] + angles[valid]
+    return np.column_stack(
+        [pose[0] + ranges[valid] * np.cos(a), pose[1] + ranges[valid] * np.sin(a)]
+    )
+
+
+@needs_intel
+def test_intel_beam_convention_aligns_consecutive_scans(intel):
+    """With the returned poses and beam angles, consecutive scans overlap; with the mirrored
+    beam order they do not. Our measure: for every third pair of consecutive scans, each
+    endpoint's distance to the nearest endpoint of the next scan, no-return beams left out;
+    its median is 0.043 m here (1° between beams is 0.035 m at the median range of 2 m) and
+    0.55 m mirrored. (SOURCE.md reports 0.030 m against 0.45 m with a measure it does not
+    spell out.)"""
+
+    def median_nn(angles):
+        d = []
+        for k in range(0, 909, 3):
+            ok = [~intel.no_return[k], ~intel.no_return[k + 1]]
+            p = _endpoints(intel.poses[k], intel.ranges[k], angles, ok[0])
+            q = _endpoints(intel.poses[k + 1], intel.ranges[k + 1], angles, ok[1])
+            d.append(np.min(np.hypot(*(p[:, None, :] - q[None, :, :]).transpose(2, 0, 1)), axis=1))
+        return np.median(np.concatenate(d))
+
+    assert median_nn(intel.beam_angles) < 0.05
+    assert median_nn(intel.beam_angles[::-1]) > 0.3
+
+
+# --------------------------------------------------------------------------- LNPR
+
+
+@needs_lnpr
+@pytest.mark.parametrize(
+    ("mm", "n", "mean", "sd", "lo", "hi", "mode", "ir", "span"),
+    [
+        (
+            200,
+            58988,
+            209.74,
+            4.84,
+            193,
+            229,
+            211,
+            (308.7, 10.5, 283, 338),
+            ("2018-01-22T09:58:19", "2018-01-24T12:00:36"),
+        ),
+        (
+            600,
+            82301,
+            626.97,
+            5.92,
+            607,
+            645,
+            631,
+            (23.0, 5.7, 0, 48),
+            ("2018-02-02T11:00:01", "2018-02-05T08:42:28"),
+        ),
+    ],
+)
+def test_lnpr_statistics_match_source(mm, n, mean, sd, lo, hi, mode, ir, span):
+    w = load_lnpr_wall(mm)
+    assert w.distance_mm == mm and w.true_distance == mm / 1000
+    for name in ("t", "lidar", "ir", "hour", "local_time"):
+        assert getattr(w, name).shape == (n,)
+    mm_values = w.lidar * 1000  # metres in the dataclass
+    assert mm_values.mean() == pytest.approx(mean, abs=0.005)
+    assert mm_values.std() == pytest.approx(sd, abs=0.005)
+    assert (mm_values.min(), mm_values.max()) == pytest.approx((lo, hi))
+    assert np.bincount(np.round(mm_values).astype(int)).argmax() == mode
+    assert w.ir.mean() == pytest.approx(ir[0], abs=0.05)
+    assert w.ir.std() == pytest.approx(ir[1], abs=0.05)
+    assert (w.ir.min(), w.ir.max()) == (ir[2], ir[3])
+    assert [str(x) for x in w.local_time[[0, -1]]] == list(span)
+    assert w.t[0] == 0.0 and np.all(np.diff(w.t) > 0)
+    assert w.t[-1] == (np.datetime64(span[1]) - np.datetime64(span[0])).astype(int)
+    assert np.median(np.diff(w.t)) == pytest.approx(3.0, abs=0.5)
+    assert np.all((w.hour >= 0) & (w.hour < 24))
+
+
+@needs_lnpr
+def test_lnpr_time_of_day_table_matches_source():
+    table = {200: [213.6, 210.4, 206.5, 208.4], 600: [631.1, 630.5, 622.3, 624.4]}
+    for mm, means in table.items():
+        w = load_lnpr_wall(mm)
+        got = [1000 * w.lidar[(w.hour >= h) & (w.hour < h + 6)].mean() for h in (0, 6, 12, 18)]
+        np.testing.assert_allclose(got, means, atol=0.05)
+
+
+@pytest.mark.parametrize("bad", [300, 0, 200.0, "200", True, None])
+def test_lnpr_bad_distance(bad):
+    with pytest.raises(ValueError, match="distance_mm must be one of"):
+        load_lnpr_wall(bad)
+
+
+@needs_lnpr
+def test_lnpr_needs_only_the_file_asked_for(no_defaults):
+    folder = _link_folder(LNPR_DIR, no_defaults / "lnpr", skip={"sensor_data_600.txt"})
+    assert load_lnpr_wall(200, path=folder).lidar.size == 58988
+    with pytest.raises(
+        DatasetNotFoundError, match=re.escape("'sensor_data_600.txt' not found")
+    ) as info:
+        load_lnpr_wall(600, path=folder)
+    assert "LNPR_BOOK_CODES" in str(info.value)
+
+
+@needs_lnpr
+def test_lnpr_corrupt(no_defaults):
+    folder = no_defaults / "lnpr"
+    folder.mkdir()
+    data = bytearray((LNPR_DIR / "sensor_data_600.txt").read_bytes())
+    data[-3] = ord("9") if data[-3] != ord("9") else ord("8")  # one digit changed
+    (folder / "sensor_data_600.txt").write_bytes(bytes(data))
+    with pytest.raises(DatasetCorruptError, match=re.escape("sensor_data_600.txt")):
+        load_lnpr_wall(600, path=folder)
+
+
+@needs_intel
+def test_intel_corrupt(no_defaults):
+    folder = no_defaults / "intel"
+    folder.mkdir()
+    data = bytearray((INTEL_DIR / "intel-corrected.log.gz").read_bytes())
+    data[1000] ^= 0x80
+    (folder / "intel-corrected.log.gz").write_bytes(bytes(data))
+    with pytest.raises(DatasetCorruptError, match=re.escape("intel-corrected.log.gz")):
+        load_intel_lab(folder)
+
+
+def test_intel_and_lnpr_missing_name_publishers(no_defaults):
+    with pytest.raises(DatasetNotFoundError, match=re.escape("radish.sourceforge.net")) as info:
+        load_intel_lab()
+    assert "'intel-corrected.log.gz' not found" in str(info.value)
+    assert "acschaefer/ple" in str(info.value)
+    with pytest.raises(DatasetNotFoundError, match="ryuichiueda/LNPR_BOOK_CODES") as info:
+        load_lnpr_wall(600)
+    assert "'sensor_data_600.txt' not found" in str(info.value)
+    assert str(no_defaults / "nowhere" / "shared" / "data" / "lnpr_wall_lidar") in str(info.value)

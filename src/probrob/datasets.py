@@ -38,6 +38,7 @@ False) — take a ``.copy()`` before modifying one in place.
 from __future__ import annotations
 
 import functools
+import gzip
 import hashlib
 import os
 from dataclasses import dataclass, field
@@ -52,7 +53,11 @@ __all__ = [
     "MRCLAM",
     "DatasetCorruptError",
     "DatasetNotFoundError",
+    "IntelLab",
+    "LNPRWall",
     "Step",
+    "load_intel_lab",
+    "load_lnpr_wall",
     "load_mrclam",
 ]
 
@@ -636,3 +641,261 @@ def load_mrclam(path=None) -> MRCLAM:
     names = tuple(f.name for f in _MRCLAM.files)
     files = _locate(_MRCLAM, names, path)
     return _mrclam_cached(tuple(files.items()), _stamps(files.values()))
+
+
+# --------------------------------------------------------------------------- Intel lab
+
+
+@dataclass(frozen=True, eq=False)
+class IntelLab:
+    r"""The Intel Research Lab corrected CARMEN log, as returned by :func:`load_intel_lab`.
+
+    All arrays are read-only.
+
+    Attributes
+    ----------
+    t : ndarray, shape (S,)
+        Scan time stamps [s] since the start of the log (not epoch), S = 910. **Not
+        monotonic**: as recorded, there are 4 small backward steps (at most 0.86 s).
+    poses : ndarray, shape (S, 3)
+        The corrected (SLAM, most likely GMapping) pose :math:`(x, y, \theta)` [m, m, rad]
+        of each scan, as in the file, θ **not wrapped** (it reaches 3.25 rad). The laser
+        sits at the robot origin (:attr:`laser_offset` = 0), so this is the laser's pose
+        and the robot's pose alike.
+    ranges : ndarray, shape (S, B)
+        Measured ranges [m], B = 180. A reading equal to :attr:`max_range` means no return.
+    beam_angles : ndarray, shape (B,)
+        Beam directions relative to the heading [rad], counter-clockwise: beam ``i`` points
+        at :math:`\theta - \pi/2 + i\,\pi/180`, i.e. −90°, −89°, …, +89° (the CARMEN
+        convention for 180-beam FLASER; SOURCE.md checked it against scan alignment, and
+        notes that a start at −89.5° fits the data almost as well).
+    max_range : float
+        81.83 m: the value the scanner writes for "no return" (SICK LMS). The largest
+        genuine reading is 25.38 m, so a beam model may prefer a smaller :math:`z_{max}`
+        with these readings mapped to it.
+    laser_offset : float
+        Forward offset of the laser from the robot origin [m], from the log's
+        ``PARAM robot_frontlaser_offset`` line (0.0).
+    neff : ndarray, shape (S,)
+        GMapping's effective particle count logged after each scan (2.1 … 15).
+    folder : str
+        The folder the log was read from.
+
+    Notes
+    -----
+    The log's ``ODOM`` lines are not returned: they are not raw odometry but the corrected
+    pose continued by odometry increments, reset after every scan (see SOURCE.md).
+    """
+
+    t: np.ndarray
+    poses: np.ndarray
+    ranges: np.ndarray
+    beam_angles: np.ndarray
+    max_range: float
+    laser_offset: float
+    neff: np.ndarray
+    folder: str
+
+    def __repr__(self) -> str:
+        return _summary(self, ["t", "poses", "ranges", "beam_angles", "max_range", "folder"])
+
+    @property
+    def no_return(self) -> np.ndarray:
+        """Boolean mask, shape (S, B): the readings equal to :attr:`max_range`."""
+        return self.ranges >= self.max_range
+
+
+_INTEL_MAX_RANGE = 81.83
+
+
+@functools.lru_cache(maxsize=2)
+def _intel_cached(file: Path, stamp: tuple) -> IntelLab:
+    del stamp  # part of the cache key only
+    _verify(_INTEL, file)
+    with gzip.open(file, "rt", encoding="ascii") as fh:
+        lines = fh.read().splitlines()
+    laser_offset = None
+    scans, neff = [], []
+    for line in lines:
+        if line.startswith("FLASER "):
+            scans.append(line.split())
+        elif line.startswith("NEFF "):
+            neff.append(line.split()[1])
+        elif line.startswith("PARAM robot_frontlaser_offset "):
+            laser_offset = float(line.split()[2])
+    beams = {int(s[1]) for s in scans}
+    if len(beams) != 1 or laser_offset is None or len(neff) != len(scans):
+        raise DatasetCorruptError(
+            f"{file}: unexpected CARMEN layout", file=str(file), url=_INTEL.files[0].url
+        )
+    b = beams.pop()
+    # FLASER n r_0 … r_{n-1} x y θ odom_x odom_y odom_θ timestamp hostname logger_timestamp
+    values = np.array([s[2 : b + 9] for s in scans], dtype=float)
+    out = dict(
+        t=np.ascontiguousarray(values[:, b + 6]),
+        poses=np.ascontiguousarray(values[:, b : b + 3]),
+        ranges=np.ascontiguousarray(values[:, :b]),
+        beam_angles=np.deg2rad(np.arange(b) - 90.0),
+        neff=np.array(neff, dtype=float),
+    )
+    _readonly(*out.values())
+    return IntelLab(
+        **out, max_range=_INTEL_MAX_RANGE, laser_offset=laser_offset, folder=str(file.parent)
+    )
+
+
+def load_intel_lab(path=None) -> IntelLab:
+    r"""Load the Intel Research Lab corrected laser log (folder ``intel_lab_corrected``).
+
+    910 scans of 180 beams (1° apart over 180°) recorded by a robot in the Intel Research
+    Lab, Seattle, each at a SLAM-corrected pose — the data for building a map and testing
+    the beam and likelihood-field models against it (Probabilistic Robotics, Secs. 6.3–6.4,
+    Tables 6.1–6.3). Credit Radish (A. Howard and N. Roy, 2003) and Dirk Hähnel; if you use
+    the corrected poses, also G. Grisetti, C. Stachniss, W. Burgard, IEEE T-RO 23(1), 2007.
+
+    Returns the laser's poses (equal to the robot's: the log's laser offset is 0), the
+    ranges in metres, the beam angles relative to the heading and the max-range code; see
+    :class:`IntelLab`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike, optional
+        The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
+        ``../shared/data`` beside the repository.
+
+    Returns
+    -------
+    IntelLab
+
+    Raises
+    ------
+    DatasetNotFoundError, DatasetCorruptError, ValueError
+        As :func:`load_mrclam`.
+    """
+    name = _INTEL.files[0].name
+    file = _locate(_INTEL, (name,), path)[name]
+    return _intel_cached(file, _stamp(file))
+
+
+# --------------------------------------------------------------------------- LNPR wall
+
+
+@dataclass(frozen=True, eq=False)
+class LNPRWall:
+    r"""Ueda's wall-facing LiDAR and IR log, as returned by :func:`load_lnpr_wall`.
+
+    All arrays are read-only.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+        Seconds since the first reading (from the logged local date and time, 1 s
+        resolution); strictly increasing, a reading every ~3 s.
+    lidar : ndarray, shape (n,)
+        LiDAR range to the wall [m] (logged in whole millimetres).
+    ir : ndarray, shape (n,)
+        Raw infrared light-sensor value (unitless ADC count).
+    true_distance : float
+        The **nominal** wall distance [m], 0.2 or 0.6. The measured means are 10–27 mm
+        longer, so the true distance is only approximately known.
+    distance_mm : int
+        The nominal distance in millimetres (200 or 600), as in the file name.
+    local_time : ndarray of datetime64[s], shape (n,)
+        The logged date and time, local to the logging machine (probably JST, not stated).
+    hour : ndarray, shape (n,)
+        Local time of day in hours, in [0, 24) — for the time-of-day drift SOURCE.md shows.
+    folder : str
+        The folder the file was read from.
+    """
+
+    t: np.ndarray
+    lidar: np.ndarray
+    ir: np.ndarray
+    true_distance: float
+    distance_mm: int
+    local_time: np.ndarray
+    hour: np.ndarray
+    folder: str
+
+    def __repr__(self) -> str:
+        return _summary(self, ["t", "lidar", "ir", "true_distance", "folder"])
+
+
+@functools.lru_cache(maxsize=4)
+def _lnpr_cached(file: Path, stamp: tuple, distance_mm: int) -> LNPRWall:
+    del stamp  # part of the cache key only
+    _verify(_LNPR, file)
+    a = np.loadtxt(file, dtype=np.int64, ndmin=2)
+    if a.shape[1] != 4:
+        raise DatasetCorruptError(
+            f"{file}: expected 4 columns", file=str(file), url=_LNPR.file(file.name).url
+        )
+    date, hms = a[:, 0], a[:, 1]
+    days = np.empty(date.size, dtype="datetime64[D]")
+    for d in np.unique(date).tolist():  # a handful of distinct dates
+        days[date == d] = np.datetime64(f"{d // 10000:04d}-{d // 100 % 100:02d}-{d % 100:02d}")
+    seconds = (hms // 10000) * 3600 + (hms // 100 % 100) * 60 + hms % 100
+    local_time = days.astype("datetime64[s]") + seconds.astype("timedelta64[s]")
+    out = dict(
+        t=(local_time - local_time[0]).astype(np.int64).astype(float),
+        lidar=a[:, 3] / 1000.0,
+        ir=a[:, 2].astype(float),
+        local_time=local_time,
+        hour=seconds / 3600.0,
+    )
+    _readonly(*out.values())
+    return LNPRWall(
+        **out,
+        true_distance=distance_mm / 1000.0,
+        distance_mm=distance_mm,
+        folder=str(file.parent),
+    )
+
+
+_LNPR_DISTANCES = (200, 600)
+
+
+def load_lnpr_wall(distance_mm=200, path=None) -> LNPRWall:
+    r"""Load a LNPR wall log: one LiDAR beam (and an IR sensor) facing a wall.
+
+    A small robot (from memory a Raspberry Pi Mouse with a Hokuyo URG LiDAR; not stated in
+    the source) faced a wall at a fixed distance and logged one reading about every 3 s for
+    2–3 days: 58,988 readings at 200 mm, 82,301 at 600 mm (folder ``lnpr_wall_lidar``). The
+    readings are clean (within ±20 mm of the mean: no short, max-range or random readings),
+    which makes them a sanity check for fitting :math:`\sigma_{hit}` and for EM
+    (Probabilistic Robotics, Table 6.2), and a real example of noise that drifts with the
+    time of day. Cite R. Ueda, 『詳解 確率ロボティクス』, Kodansha, 2019, and
+    github.com/ryuichiueda/LNPR_BOOK_CODES (MIT, © 2019 Ryuichi Ueda).
+
+    Parameters
+    ----------
+    distance_mm : {200, 600}
+        The nominal wall distance, selecting ``sensor_data_<distance_mm>.txt``.
+    path : str or os.PathLike, optional
+        The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
+        ``../shared/data`` beside the repository.
+
+    Returns
+    -------
+    LNPRWall
+        Ranges in metres, times in seconds.
+
+    Raises
+    ------
+    ValueError
+        ``distance_mm`` is not 200 or 600, or ``path`` is not a folder.
+    DatasetNotFoundError, DatasetCorruptError
+        As :func:`load_mrclam`.
+    """
+    if (
+        isinstance(distance_mm, bool)
+        or not isinstance(distance_mm, int | np.integer)
+        or int(distance_mm) not in _LNPR_DISTANCES
+    ):
+        raise ValueError(
+            f"distance_mm must be one of {_LNPR_DISTANCES} (the recorded wall distances), "
+            f"got {distance_mm!r}"
+        )
+    name = f"sensor_data_{int(distance_mm)}.txt"
+    file = _locate(_LNPR, (name,), path)[name]
+    return _lnpr_cached(file, _stamp(file), int(distance_mm))
