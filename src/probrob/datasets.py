@@ -2,16 +2,13 @@ r"""Loaders for the real robot recordings the book uses.
 
 Three datasets, each in its own folder (never copied into this repository):
 
-=========================  =====================================================  ==================
-folder                     what                                                   loader
-=========================  =====================================================  ==================
-``mrclam_dataset7_robot1``  UTIAS MRCLAM Dataset 7, robot 1: velocity commands,    :func:`load_mrclam`
-                           range–bearing to barcoded landmarks, Vicon ground truth
-``intel_lab_corrected``    Intel Research Lab CARMEN log, 910 scans × 180 beams     :func:`load_intel_lab`
-                           at SLAM-corrected poses
-``lnpr_wall_lidar``        Ueda's single-beam LiDAR (and IR) facing a wall at      :func:`load_lnpr_wall`
-                           200 mm and 600 mm, one reading every ~3 s for 2–3 days
-=========================  =====================================================  ==================
+- :func:`load_mrclam` — folder ``mrclam_dataset7_robot1``: UTIAS MRCLAM Dataset 7, robot 1:
+  velocity commands, range–bearing to barcoded landmarks, Vicon ground truth
+  (Probabilistic Robotics, Secs. 5.3, 6.6, 7.4–7.7);
+- :func:`load_intel_lab` — folder ``intel_lab_corrected``: the Intel Research Lab CARMEN
+  log, 910 scans × 180 beams at SLAM-corrected poses (Secs. 6.3–6.4);
+- :func:`load_lnpr_wall` — folder ``lnpr_wall_lidar``: Ueda's single-beam LiDAR (and IR)
+  facing a wall at 200 mm and 600 mm, a reading every ~3 s for 2–3 days (Sec. 6.3).
 
 **Where the files are looked for**, in this order:
 
