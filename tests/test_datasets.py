@@ -198,6 +198,7 @@ def test_mrclam_stream_real(mrclam):
     # Every landmark measurement exactly once, in file order, inside its interval (t - dt, t].
     np.testing.assert_array_equal(np.concatenate([s.z for s in steps]), mrclam.measurements)
     np.testing.assert_array_equal(np.concatenate([s.c for s in steps]), mrclam.correspondences)
+    np.testing.assert_array_equal(np.concatenate([s.z_t for s in steps]), mrclam.measurement_t)
     for s in steps:
         assert s.z.shape == (s.c.size, 3) == (s.z_t.size, 3)
         if s.c.size:
@@ -361,7 +362,10 @@ def test_probrob_data_is_honoured(no_defaults, monkeypatch):
     assert ds.odometry.shape == (58598, 2)
 
 
-@needs_mrclam
+@pytest.mark.skipif(
+    not (_DEFAULT_DATA / "mrclam_dataset7_robot1").is_dir(),
+    reason=f"MRCLAM data absent from {_DEFAULT_DATA}",
+)
 def test_probrob_data_without_the_dataset_falls_back_to_shared(monkeypatch, tmp_path):
     monkeypatch.setenv("PROBROB_DATA", str(tmp_path))
     assert Path(load_mrclam().folder) == _DEFAULT_DATA / "mrclam_dataset7_robot1"
