@@ -232,7 +232,9 @@ def test_sampler_agrees_with_the_landmark_model(phi):
         np.broadcast_to(f, poses.shape), 2, poses, MAP, sig, log=True
     )
     r_err, b_err = z[:, 0] - f[0], wrap_angle(z[:, 1] - f[1])
-    expected = np.log(normal_pdf(r_err, sig[0]) * normal_pdf(b_err, sig[1]) * normal_pdf(0, sig[2]))
+    expected = np.log(
+        normal_pdf(r_err, sig[0]) * normal_pdf(b_err, sig[1]) * normal_pdf(0, sig[2])
+    )
     np.testing.assert_allclose(logq, expected, rtol=1e-9)
 
 
