@@ -487,7 +487,19 @@ API = [
         rng=SEED,
         examples=3,
     ),
+    Api(plotting.plot_velocity_geometry, "plot", x_prev=POSE, x_t=POSE, dt=DT, examples=5),
+    Api(plotting.plot_odometry_deltas, "plot", xbar_prev=POSE, xbar_t=POSE, examples=5),
+    Api(plotting.book_style, "widget", examples=1),
+    Api(plotting.use_book_style, "widget", skip_valid=True),  # changes global rcParams
     # probrob.widgets (invalid rows; building the sliders is cheap, the players are not)
+    Api(
+        widgets.parameter_player,
+        "widget",
+        draw=Arg(constant(lambda ax, value: None), lambda ax, value: None, BAD_CALLABLE),
+        values=Arg(constant([0.0, 1.0]), [0.0, 1.0], [([], ValueError), (None, ValueError)]),
+        label=Arg(constant("a"), "a", [("", ValueError), (None, ValueError), (3, ValueError)]),
+        skip_valid=True,
+    ),
     Api(
         widgets.velocity_model_explorer,
         "widget",
