@@ -307,6 +307,14 @@ def _positive_variances_motion(kw) -> bool:
     return bool(np.min(kw["alpha"]) >= 1e-3 and np.min(np.abs(kw["u_t"])) >= 1e-3)
 
 
+def _hypothesis_moved_odometry(kw) -> bool:
+    """Finite is defined for Table 5.5 as printed when all α >= 1e-3 and x_t moved >= 1 mm."""
+    if kw.get("density", "book") != "book" or np.min(kw["alpha"]) < 1e-3:
+        return False
+    d = np.asarray(kw["x_t"])[..., :2] - np.asarray(kw["x_prev"])[..., :2]
+    return bool(np.all(np.hypot(d[..., 0], d[..., 1]) >= 1e-3))
+
+
 def _angles_in_range(result, kw):
     assert np.all((np.asarray(result) >= -PI) & (np.asarray(result) < PI))
 
@@ -414,6 +422,7 @@ API = [
         prob=PROB,
         noise=NOISE,
         density=DENSITY,
+        finite_when=_hypothesis_moved_odometry,
         examples=80,
     ),
     Api(
