@@ -1,0 +1,775 @@
+r"""Gaussian filter localization of *Probabilistic Robotics*, chapter 7.
+
+* :func:`ekf_localization_known_correspondences` — Table 7.2, the EKF with known
+  correspondences, returning :math:`\mu_t, \Sigma_t` and the measurement likelihood
+  :math:`p(z_t)`;
+* :func:`ekf_localization` — Table 7.3, the EKF with maximum-likelihood data
+  association (unknown correspondences), returning the chosen landmark per feature, with
+  an optional χ² gate;
+* :func:`ukf_localization` — Table 7.4, the UKF with the augmented state (pose, control
+  noise, measurement noise); several features of one step are stacked into one update;
+* :func:`nees` — the normalised estimation error squared of a pose estimate;
+* :func:`run_filter` — one of the filters over a sequence of steps (a simulation or a
+  dataset's ``stream()``), collecting the estimates.
+
+All three use the noise-free velocity motion :math:`g` and its Jacobians from
+:mod:`probrob.motion` (exact at :math:`\omega = 0`) and the range–bearing–signature
+measurement function :math:`h` and its Jacobian from :mod:`probrob.sensors`, so each
+model exists once. Every bearing innovation, and every bearing and heading residual of
+the UKF, is wrapped with :mod:`probrob.angles`; the returned mean heading is wrapped to
+:math:`[-\pi, \pi)`.
+
+Conventions: a pose is ``(3,)`` :math:`(x, y, \theta)`, a control ``(2,)``
+:math:`(v, \omega)`, a step's features ``z`` are rows :math:`(r, \phi, s)` (shape
+``(K, 3)``) or :math:`(r, \phi)` (shape ``(K, 2)``: no signatures, association on range
+and bearing only), the map ``m`` rows :math:`(x, y, s)` (shape ``(L, 3)``), ``c`` the
+landmark row of each feature (shape ``(K,)``), ``alpha`` the four motion-noise parameters
+:math:`\alpha_1 \ldots \alpha_4` of :math:`M_t` (variances: :math:`\alpha_1 v^2 +
+\alpha_2 \omega^2`), ``sigmas`` the standard deviations :math:`(\sigma_r, \sigma_\phi,
+\sigma_s)`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _validation as check
+from .angles import wrap_angle
+from .motion import velocity_motion, velocity_motion_jacobians
+from .sensors import landmark_measurement, landmark_measurement_jacobian
+
+__all__ = [
+    "FilterRun",
+    "chi2_quantile",
+    "ekf_localization",
+    "ekf_localization_known_correspondences",
+    "nees",
+    "run_filter",
+    "ukf_localization",
+    "ukf_weights",
+]
+
+_LOG_2PI = math.log(2.0 * math.pi)
+
+
+# --------------------------------------------------------------------------- validation
+
+
+def _covariance(Sigma, name: str = "Sigma") -> np.ndarray:
+    """A finite, symmetric, positive-definite 3×3 covariance."""
+    S = check.finite(Sigma, name)
+    if S.shape != (3, 3):
+        raise ValueError(f"{name} must have shape (3, 3), got {S.shape}")
+    if not np.allclose(S, S.T, rtol=1e-9, atol=1e-12):
+        raise ValueError(f"{name} must be symmetric")
+    try:
+        np.linalg.cholesky(S)
+    except np.linalg.LinAlgError:
+        # Singular but positive semi-definite is legal (Σ = 0 is a known pose).
+        eig = np.linalg.eigvalsh(S)
+        if eig[0] < -1e-12 * max(1.0, eig[-1]):
+            raise ValueError(
+                f"{name} is not positive semi-definite (smallest eigenvalue {eig[0]:.3g})"
+            ) from None
+    return S
+
+
+def _sqrt_psd(S: np.ndarray) -> np.ndarray:
+    """A square root ``R`` with ``R @ R.T == S``: the lower Cholesky factor if ``S`` is
+    positive definite, else the symmetric root (``S`` positive semi-definite)."""
+    try:
+        return np.linalg.cholesky(S)
+    except np.linalg.LinAlgError:
+        w, U = np.linalg.eigh(S)
+        return U * np.sqrt(np.clip(w, 0.0, None))
+
+
+def _cholesky(S: np.ndarray, name: str) -> np.ndarray:
+    """Lower Cholesky factor of ``S`` (..., n, n), or ``ValueError`` naming ``name``."""
+    try:
+        L = np.linalg.cholesky(S)
+    except np.linalg.LinAlgError:
+        L = None
+    if L is None or not np.all(np.isfinite(L)):
+        raise ValueError(
+            f"{name} is not positive definite (a covariance must be symmetric with "
+            "positive eigenvalues)"
+        )
+    return L
+
+
+def _pose(mu) -> np.ndarray:
+    mu = check.poses(mu, "mu")
+    if mu.shape != (3,):
+        raise ValueError(f"mu must have shape (3,), got {mu.shape}")
+    return mu
+
+
+def _control(u) -> np.ndarray:
+    u = check.vectors(u, "u", 2, "v, omega")
+    if u.shape != (2,):
+        raise ValueError(f"u must have shape (2,), got {u.shape}")
+    return u
+
+
+def _landmark_map(m) -> np.ndarray:
+    m = check.finite(m, "m")
+    if m.ndim != 2 or m.shape[1] != 3:
+        raise ValueError(f"m must have shape (L, 3) (landmark x, y, s), got {m.shape}")
+    if m.shape[0] == 0:
+        raise ValueError("m is an empty map: it needs at least one landmark")
+    return m
+
+
+def _features(z) -> np.ndarray:
+    z = check.finite(z, "z")
+    if z.size == 0:
+        return np.zeros((0, 3))
+    if z.ndim == 1:
+        z = z[None, :]
+    if z.ndim != 2 or z.shape[1] not in (2, 3):
+        raise ValueError(f"z must have shape (K, 3) (r, phi, s) or (K, 2) (r, phi), got {z.shape}")
+    if np.any(z[:, 0] < 0):
+        raise ValueError("z: ranges must be >= 0")
+    return z
+
+
+def _correspondences(c, k: int, n_landmarks: int) -> np.ndarray:
+    arr = np.asarray(c)
+    if arr.size == 0 and k == 0:
+        return np.zeros(0, dtype=int)
+    arr = np.atleast_1d(arr)
+    if arr.dtype.kind not in "iu":
+        if arr.dtype.kind != "f" or not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
+            raise ValueError(f"c must hold integer landmark indices, got {c!r}")
+        arr = arr.astype(int)
+    if arr.shape != (k,):
+        raise ValueError(
+            f"c must have shape ({k},), one landmark index per feature, got {arr.shape}"
+        )
+    if np.any(arr < 0) or np.any(arr >= n_landmarks):
+        raise ValueError(f"c must index the map's {n_landmarks} landmarks, got {arr.tolist()}")
+    return arr.astype(int)
+
+
+def _alpha4(alpha) -> np.ndarray:
+    return check.alphas(alpha, "alpha", 4)
+
+
+def _sigmas(sigmas, count: int = 3) -> np.ndarray:
+    s = check.finite(sigmas, "sigmas")
+    if s.shape not in ((2,), (3,)) or s.shape[0] < count:
+        need = "(sigma_r, sigma_phi, sigma_s)" if count == 3 else "(sigma_r, sigma_phi[, sigma_s])"
+        raise ValueError(f"sigmas must hold {need}, got shape {s.shape}")
+    if np.any(s <= 0):
+        raise ValueError(f"sigmas are standard deviations and must be > 0, got {s.tolist()}")
+    return s
+
+
+# --------------------------------------------------------------------------- shared pieces
+
+
+def _motion_noise(alpha: np.ndarray, u: np.ndarray) -> np.ndarray:
+    r"""Diagonal of :math:`M_t` (Table 7.2, line 5): control-noise variances."""
+    v2, w2 = u[0] ** 2, u[1] ** 2
+    return np.array([alpha[0] * v2 + alpha[1] * w2, alpha[2] * v2 + alpha[3] * w2])
+
+
+def _ekf_predict(mu, Sigma, u, dt, alpha):
+    """Lines 2–7 of Tables 7.2 and 7.3."""
+    G, V = velocity_motion_jacobians(mu, u, dt)
+    mu_bar = velocity_motion(mu, u, dt)
+    M = _motion_noise(alpha, u)
+    Sigma_bar = G @ Sigma @ G.T + (V * M) @ V.T
+    return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T)
+
+
+def _innovation(z: np.ndarray, zhat: np.ndarray) -> np.ndarray:
+    """``z - zhat`` with the bearing (second component) wrapped to [-π, π)."""
+    nu = z - zhat
+    nu[..., 1] = wrap_angle(nu[..., 1])
+    return nu
+
+
+def _gaussian_terms(nu: np.ndarray, S: np.ndarray, name: str = "S"):
+    """Mahalanobis distances² and log-densities of innovations ``nu`` (..., d) under S."""
+    L = _cholesky(S, name)
+    w = np.linalg.solve(L, nu[..., None])[..., 0]
+    d2 = np.sum(w * w, axis=-1)
+    logdet = 2.0 * np.sum(np.log(np.diagonal(L, axis1=-2, axis2=-1)), axis=-1)
+    d = nu.shape[-1]
+    return d2, -0.5 * (d2 + logdet + d * _LOG_2PI)
+
+
+def _kalman_update(mu_bar, Sigma_bar, nu, H, S):
+    """One EKF correction (Table 7.2, lines 15–17): returns the new μ̄, Σ̄."""
+    PHt = Sigma_bar @ H.T
+    L = _cholesky(S, "S")
+    # K = Σ̄ Hᵀ S⁻¹ through the Cholesky factor of S (S is symmetric).
+    K = np.linalg.solve(L.T, np.linalg.solve(L, PHt.T)).T
+    mu_bar = mu_bar + K @ nu
+    Sigma_bar = Sigma_bar - K @ H @ Sigma_bar
+    return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T)
+
+
+def _finish(mu: np.ndarray, Sigma: np.ndarray):
+    mu = mu.copy()
+    mu[2] = wrap_angle(mu[2])
+    if not np.all(np.isfinite(mu)) or not np.all(np.isfinite(Sigma)):
+        raise ValueError("the filter produced a non-finite estimate; check the inputs' scales")
+    return mu, Sigma
+
+
+def chi2_quantile(p: float, dof: int) -> float:
+    r"""Return the ``p``-quantile of the χ² distribution with ``dof`` degrees of freedom.
+
+    Bisection on the closed-form CDF (regularised lower incomplete gamma function,
+    summed in closed form for integer ``dof``), accurate to ~1e-12. Used for the χ²
+    gate of :func:`ekf_localization` and the NEES bounds, without a SciPy dependency.
+
+    Parameters
+    ----------
+    p : float
+        Probability in (0, 1).
+    dof : int
+        Degrees of freedom, >= 1.
+
+    Returns
+    -------
+    q : float
+        The value with :math:`P(\chi^2_{dof} \le q) = p`.
+    """
+    p = float(p)
+    if not 0.0 < p < 1.0:
+        raise ValueError(f"p must lie in (0, 1), got {p!r}")
+    if int(dof) != dof or dof < 1:
+        raise ValueError(f"dof must be a positive integer, got {dof!r}")
+    dof = int(dof)
+
+    def cdf(x: float) -> float:
+        h = 0.5 * x
+        if dof % 2 == 0:
+            # 1 - e^{-h} Σ_{k < dof/2} h^k / k!
+            term, total = 1.0, 1.0
+            for k in range(1, dof // 2):
+                term *= h / k
+                total += term
+            return 1.0 - math.exp(-h) * total
+        # erf(√h) - e^{-h} Σ_{k=1}^{(dof-1)/2} h^{k-1/2} / Γ(k + 1/2)
+        total = 0.0
+        term = math.sqrt(h) / math.gamma(1.5) if h > 0 else 0.0
+        for k in range(1, (dof + 1) // 2):
+            total += term
+            term *= h / (k + 0.5)
+        return math.erf(math.sqrt(h)) - math.exp(-h) * total
+
+    lo, hi = 0.0, float(dof)
+    while cdf(hi) < p:
+        hi *= 2.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if cdf(mid) < p:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo <= 1e-13 * max(1.0, hi):
+            break
+    return 0.5 * (lo + hi)
+
+
+# --------------------------------------------------------------------------- Table 7.2
+
+
+def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sigmas, *, log=False):
+    r"""Return :math:`\mu_t, \Sigma_t, p(z_t)` of one EKF step with known correspondences.
+
+    *Probabilistic Robotics*, Table 7.2. Prediction with the velocity motion model
+    (lines 2–7):
+
+    .. math::
+        \bar\mu_t = g(u_t, \mu_{t-1}),\qquad
+        \bar\Sigma_t = G_t \Sigma_{t-1} G_t^T + V_t M_t V_t^T,\qquad
+        M_t = \mathrm{diag}(\alpha_1 v_t^2 + \alpha_2 \omega_t^2,\ \alpha_3 v_t^2 + \alpha_4 \omega_t^2),
+
+    then, for each feature :math:`z_t^i` in turn with :math:`j = c_t^i` (lines 9–18),
+    the predicted measurement :math:`\hat z = h(\bar\mu_t, m_j) = (\sqrt q,\
+    \mathrm{atan2}(\delta_y, \delta_x) - \bar\mu_\theta,\ m_{j,s})` with
+    :math:`\delta = m_j - \bar\mu`, :math:`q = \delta^T\delta`, its Jacobian
+
+    .. math::
+        H = \begin{pmatrix} -\delta_x/\sqrt q & -\delta_y/\sqrt q & 0 \\
+                             \delta_y/q & -\delta_x/q & -1 \\ 0 & 0 & 0 \end{pmatrix},
+
+    :math:`S = H\bar\Sigma H^T + Q_t`, :math:`K = \bar\Sigma H^T S^{-1}`,
+    :math:`\bar\mu \mathrel{+}= K(z^i - \hat z)` with the bearing innovation wrapped,
+    :math:`\bar\Sigma = (I - KH)\bar\Sigma`. The deck's :math:`V_{11}`, :math:`H_{11}`,
+    :math:`H_{22}` and third component of :math:`\hat z` are misprinted (errata, deck 004).
+
+    Parameters
+    ----------
+    mu : array_like, shape (3,)
+        :math:`\mu_{t-1}`.
+    Sigma : array_like, shape (3, 3)
+        :math:`\Sigma_{t-1}`, symmetric positive semi-definite (``0``: the pose is known).
+    u : array_like, shape (2,)
+        Control :math:`(v, \omega)`.
+    z : array_like, shape (K, 3) or (K, 2)
+        Features :math:`(r, \phi, s)`, or :math:`(r, \phi)` (then :math:`Q_t` is 2×2 and
+        signatures are not used). ``K = 0`` (an empty array): prediction only.
+    c : array_like of int, shape (K,)
+        Landmark row of each feature.
+    m : array_like, shape (L, 3)
+        Map: landmark :math:`(x, y, s)`.
+    dt : float
+        Time step, > 0.
+    alpha : array_like, shape (4,)
+        :math:`\alpha_1 \ldots \alpha_4 \ge 0`.
+    sigmas : array_like, shape (3,)
+        :math:`(\sigma_r, \sigma_\phi, \sigma_s) > 0`, standard deviations.
+    log : bool, optional
+        Return :math:`\log p(z_t)` instead of :math:`p(z_t)`.
+
+    Returns
+    -------
+    mu : ndarray, shape (3,)
+        :math:`\mu_t`, heading wrapped to :math:`[-\pi, \pi)`.
+    Sigma : ndarray, shape (3, 3)
+        :math:`\Sigma_t` (symmetrised).
+    p_z : float
+        :math:`\prod_i \det(2\pi S^i)^{-1/2} \exp(-\frac12 \nu_i^T [S^i]^{-1} \nu_i)`
+        (line 21), 1 (log: 0) for a step without features.
+
+    Raises
+    ------
+    ValueError
+        On bad input, a non-positive-definite ``Sigma`` or innovation covariance ``S``.
+    """
+    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
+    m = _landmark_map(m)
+    z = _features(z)
+    c = _correspondences(c, z.shape[0], m.shape[0])
+    dt = check.positive_scalar(dt, "dt")
+    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
+
+    mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)
+    d = z.shape[1]
+    Q = np.diag(sigmas[:d] ** 2)
+    log_pz = 0.0
+    for i in range(z.shape[0]):
+        landmark = m[c[i]]
+        zhat = landmark_measurement(mu_bar, landmark)[:d]
+        H = landmark_measurement_jacobian(mu_bar, landmark)[:d]
+        S = H @ Sigma_bar @ H.T + Q
+        nu = _innovation(z[i], zhat)
+        _, logp = _gaussian_terms(nu, S)
+        log_pz += float(logp)
+        mu_bar, Sigma_bar = _kalman_update(mu_bar, Sigma_bar, nu, H, S)
+    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
+    return mu_t, Sigma_t, (log_pz if log else math.exp(log_pz))
+
+
+# --------------------------------------------------------------------------- Table 7.3
+
+
+def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
+    r"""Return :math:`\mu_t, \Sigma_t` and the maximum-likelihood landmark of each feature.
+
+    *Probabilistic Robotics*, Table 7.3 (EKF localization with unknown
+    correspondences). Prediction as in :func:`ekf_localization_known_correspondences`;
+    then, for each feature :math:`z_t^i` in turn, :math:`\hat z^k`, :math:`H^k` and
+    :math:`S^k = H^k \bar\Sigma H^{kT} + Q_t` for every landmark :math:`k` (at the
+    current :math:`\bar\mu`, already corrected by the earlier features), the choice
+
+    .. math::
+        j(i) = \operatorname{argmax}_k\ \det(2\pi S^k)^{-1/2}
+               \exp\!\left(-\tfrac12 (z^i - \hat z^k)^T [S^k]^{-1} (z^i - \hat z^k)\right)
+
+    (bearing innovations wrapped) and the Kalman correction with landmark :math:`j(i)`.
+    With ``z`` of shape ``(K, 3)`` the signature takes part in the likelihood (it never
+    moves the pose: the third row of :math:`H` is zero); with ``(K, 2)`` association
+    uses range and bearing only (a map whose signatures are unknown).
+
+    Parameters
+    ----------
+    mu, Sigma, u, z, m, dt, alpha, sigmas
+        As in :func:`ekf_localization_known_correspondences` (no ``c``).
+    gate : float, optional
+        Off by default (``None``): the book's algorithm, every feature is associated.
+        A probability such as 0.99: a feature whose most likely landmark lies outside
+        the χ² gate :math:`(z - \hat z)^T S^{-1} (z - \hat z) >` ``chi2_quantile(gate,
+        d)`` (``d`` = 2 or 3 components) is rejected (index -1) and not used.
+
+    Returns
+    -------
+    mu : ndarray, shape (3,)
+    Sigma : ndarray, shape (3, 3)
+    c : ndarray of int, shape (K,)
+        The chosen landmark row :math:`j(i)` of each feature; -1 where the gate rejected it.
+    """
+    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
+    m = _landmark_map(m)
+    z = _features(z)
+    dt = check.positive_scalar(dt, "dt")
+    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
+    threshold = None
+    if gate is not None:
+        g = check.finite(gate, "gate")
+        if g.ndim != 0 or not 0.0 < float(g) < 1.0:
+            raise ValueError(f"gate must be None or a probability in (0, 1), got {gate!r}")
+        threshold = chi2_quantile(float(g), z.shape[1])
+
+    mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)
+    d = z.shape[1]
+    Q = np.diag(sigmas[:d] ** 2)
+    chosen = np.full(z.shape[0], -1, dtype=int)
+    for i in range(z.shape[0]):
+        zhat = landmark_measurement(mu_bar, m)[:, :d]  # (L, d)
+        H = landmark_measurement_jacobian(mu_bar, m)[:, :d, :]  # (L, d, 3)
+        S = H @ Sigma_bar @ np.swapaxes(H, -1, -2) + Q
+        nu = _innovation(z[i], zhat)
+        d2, logp = _gaussian_terms(nu, S)
+        j = int(np.argmax(logp))
+        if threshold is not None and d2[j] > threshold:
+            continue
+        chosen[i] = j
+        mu_bar, Sigma_bar = _kalman_update(mu_bar, Sigma_bar, nu[j], H[j], S[j])
+    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
+    return mu_t, Sigma_t, chosen
+
+
+# --------------------------------------------------------------------------- Table 7.4
+
+
+def ukf_weights(n: int, ukf_alpha: float = 1.0, beta: float = 2.0, kappa: float = 0.0):
+    r"""Return :math:`\gamma` and the weights :math:`w^{(m)}, w^{(c)}` of the scaled unscented transform.
+
+    *Probabilistic Robotics*, Table 3.4 (used by Table 7.4), the scaled sigma points of
+    Wan and van der Merwe: with :math:`\lambda = \alpha^2 (n + \kappa) - n`,
+
+    .. math::
+        \gamma = \sqrt{n + \lambda},\quad
+        w_0^{(m)} = \frac{\lambda}{n + \lambda},\quad
+        w_0^{(c)} = \frac{\lambda}{n + \lambda} + (1 - \alpha^2 + \beta),\quad
+        w_i^{(m)} = w_i^{(c)} = \frac{1}{2(n + \lambda)}\ (i = 1 \ldots 2n).
+
+    Parameters
+    ----------
+    n : int
+        Dimension :math:`L` of the (augmented) state.
+    ukf_alpha, beta, kappa : float
+        Spread :math:`\alpha > 0`, prior-knowledge :math:`\beta` (2 is optimal for a
+        Gaussian) and secondary scaling :math:`\kappa` (with :math:`n + \kappa > 0`).
+
+    Returns
+    -------
+    gamma : float
+    wm, wc : ndarray, shape (2n + 1,)
+    """
+    a = check.positive_scalar(ukf_alpha, "ukf_alpha")
+    beta = float(check.finite(beta, "beta"))
+    kappa = float(check.finite(kappa, "kappa"))
+    if n + kappa <= 0:
+        raise ValueError(f"kappa must satisfy n + kappa > 0 (n = {n}), got {kappa!r}")
+    lam = a * a * (n + kappa) - n
+    wm = np.full(2 * n + 1, 0.5 / (n + lam))
+    wc = wm.copy()
+    wm[0] = lam / (n + lam)
+    wc[0] = lam / (n + lam) + (1.0 - a * a + beta)
+    return math.sqrt(n + lam), wm, wc
+
+
+def _angle_mean(angles: np.ndarray, wm: np.ndarray) -> float:
+    r"""Weighted mean of sigma-point angles on the circle.
+
+    :math:`\theta_0 + \sum_i w_i\, \mathrm{wrap}(\theta_i - \theta_0)` about the central
+    sigma point :math:`\theta_0`: the arithmetic weighted mean of the angles unwrapped
+    next to :math:`\theta_0`, which stays right across ±π and with a negative
+    :math:`w_0` (where a mean of unit vectors would not).
+    """
+    ref = angles[0]
+    return ref + float(wm @ wrap_angle(angles - ref))
+
+
+def ukf_localization(
+    mu,
+    Sigma,
+    u,
+    z,
+    c,
+    m,
+    dt,
+    alpha,
+    sigmas,
+    *,
+    ukf_alpha=1.0,
+    beta=2.0,
+    kappa=0.0,
+    log=False,
+):
+    r"""Return :math:`\mu_t, \Sigma_t, p(z_t)` of one UKF localization step.
+
+    *Probabilistic Robotics*, Table 7.4, with the augmented state
+    :math:`x^a = (x, \epsilon_u, \epsilon_z)` of dimension :math:`n = 5 + 2K` for
+    :math:`K` features, :math:`\mu^a = (\mu_{t-1}, 0, 0)` and
+    :math:`\Sigma^a = \mathrm{diag}(\Sigma_{t-1}, M_t, Q_t, \ldots, Q_t)` with the
+    2×2 :math:`Q_t = \mathrm{diag}(\sigma_r^2, \sigma_\phi^2)` (the signature is not
+    used). One feature is exactly the book's table with :math:`L = 7`; several features
+    are stacked into one update (their noises are independent blocks of
+    :math:`\Sigma^a`).
+
+    Sigma points :math:`\chi_0 = \mu^a`, :math:`\chi_{i} = \mu^a \pm \gamma\, [\sqrt{\Sigma^a}]_i`
+    with the lower Cholesky factor (columns :math:`1 \ldots n` then :math:`n+1 \ldots 2n`),
+    :math:`\lambda = \alpha^2(n + \kappa) - n`, :math:`\gamma = \sqrt{n + \lambda}` and
+    weights (see :func:`ukf_weights`)
+
+    .. math::
+        w_0^{(m)} = \tfrac{\lambda}{n+\lambda},\quad
+        w_0^{(c)} = \tfrac{\lambda}{n+\lambda} + 1 - \alpha^2 + \beta,\quad
+        w_i^{(m)} = w_i^{(c)} = \tfrac{1}{2(n+\lambda)}.
+
+    Each sigma point moves with its own control noise,
+    :math:`\bar\chi^x_i = g(u_t + \chi^u_{i,t-1}, \chi^x_{i,t-1})` (line 7; the
+    :math:`\chi^u` and :math:`\chi^z` are the noise blocks of the same
+    :math:`\chi^a_{t-1}`), and is measured with its own measurement noise,
+    :math:`\bar Z_i = h(\bar\chi^x_i) + \chi^z_i` (line 10). Means of headings and
+    bearings are taken on the circle (about the central point), and every heading and
+    bearing residual is wrapped. The measurement sigma points are the predicted ones,
+    not redrawn (as in the table).
+
+    Parameters
+    ----------
+    mu, Sigma, u, m, dt, alpha
+        As in :func:`ekf_localization_known_correspondences`.
+    z : array_like, shape (K, 2) or (K, 3)
+        Features :math:`(r, \phi)` or :math:`(r, \phi, s)`; :math:`s` is ignored.
+    c : array_like of int, shape (K,)
+        Landmark row of each feature (the table assumes known correspondences).
+    sigmas : array_like, shape (2,) or (3,)
+        :math:`(\sigma_r, \sigma_\phi[, \sigma_s])`; :math:`\sigma_s` is ignored.
+    ukf_alpha, beta, kappa : float, optional
+        Unscented-transform parameters :math:`\alpha, \beta, \kappa` (book defaults of
+        the deck's exercises: 1, 2, 0, which make :math:`\lambda = 0`).
+    log : bool, optional
+        Return :math:`\log p(z_t)`.
+
+    Returns
+    -------
+    mu : ndarray, shape (3,)
+        Heading wrapped to :math:`[-\pi, \pi)`.
+    Sigma : ndarray, shape (3, 3)
+    p_z : float
+        :math:`\det(2\pi S_t)^{-1/2}\exp(-\frac12 \nu^T S_t^{-1} \nu)` over the stacked
+        :math:`2K` innovation (line 17); 1 (log: 0) without features.
+
+    Raises
+    ------
+    ValueError
+        On bad input, a non-positive-definite ``Sigma``, predicted covariance or ``S``
+        (a very small ``ukf_alpha`` makes :math:`w_0^{(c)}` so negative that the
+        predicted covariance can lose definiteness).
+    """
+    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
+    m = _landmark_map(m)
+    z = _features(z)
+    c = _correspondences(c, z.shape[0], m.shape[0])
+    dt = check.positive_scalar(dt, "dt")
+    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 2)
+    k = z.shape[0]
+    n = 5 + 2 * k
+    gamma, wm, wc = ukf_weights(n, ukf_alpha, beta, kappa)
+
+    # Lines 2-6: augmented mean and the square root of the block-diagonal covariance
+    # (block by block: M_t is zero for a robot at rest, which a Cholesky of the whole
+    # matrix would reject; for a positive-definite Σ^a this is its Cholesky factor).
+    root = np.zeros((n, n))
+    root[:3, :3] = _sqrt_psd(Sigma)
+    diag = np.concatenate([_motion_noise(alpha, u), np.tile(sigmas[:2] ** 2, k)])
+    root[3:, 3:] = np.diag(np.sqrt(diag))
+    chi = np.zeros((2 * n + 1, n))
+    chi[:, :3] = mu
+    chi[1 : n + 1] += gamma * root.T
+    chi[n + 1 :] -= gamma * root.T
+
+    # Lines 7-9: motion of every sigma point with its own control noise.
+    xbar = velocity_motion(chi[:, :3], u + chi[:, 3:5], dt)
+    mu_bar = wm @ xbar
+    mu_bar[2] = _angle_mean(xbar[:, 2], wm)
+    dx = xbar - mu_bar
+    dx[:, 2] = wrap_angle(dx[:, 2])
+    Sigma_bar = (wc[:, None] * dx).T @ dx
+    Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
+    _covariance(Sigma_bar, "the predicted covariance (check ukf_alpha, beta, kappa)")
+    if k == 0:
+        mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
+        return mu_t, Sigma_t, (0.0 if log else 1.0)
+
+    # Lines 10-13: predicted measurements of every sigma point, stacked over features.
+    Z = landmark_measurement(xbar[:, None, :], m[c][None, :, :])[..., :2]  # (2n+1, K, 2)
+    Z = Z + chi[:, 5:].reshape(2 * n + 1, k, 2)
+    zhat = np.einsum("i,ikd->kd", wm, Z)
+    for f in range(k):
+        zhat[f, 1] = _angle_mean(Z[:, f, 1], wm)
+    dz = _innovation(Z, zhat).reshape(2 * n + 1, 2 * k)
+    S = (wc[:, None] * dz).T @ dz
+    S = 0.5 * (S + S.T)
+    Pxz = (wc[:, None] * dx).T @ dz
+
+    # Lines 14-17.
+    nu = _innovation(z[:, :2], zhat).reshape(2 * k)
+    L = _cholesky(S, "S")
+    K = np.linalg.solve(L.T, np.linalg.solve(L, Pxz.T)).T
+    mu_t = mu_bar + K @ nu
+    Sigma_t = Sigma_bar - K @ S @ K.T
+    Sigma_t = 0.5 * (Sigma_t + Sigma_t.T)
+    _, logp = _gaussian_terms(nu, S)
+    mu_t, Sigma_t = _finish(mu_t, Sigma_t)
+    return mu_t, Sigma_t, (float(logp) if log else math.exp(float(logp)))
+
+
+# --------------------------------------------------------------------------- evaluation
+
+
+def nees(x_true, mu, Sigma):
+    r"""Return the normalised estimation error squared :math:`e^T \Sigma^{-1} e`.
+
+    :math:`e = x - \mu` with the heading error wrapped. For a consistent filter it is
+    :math:`\chi^2_3`-distributed: mean 3 (Bar-Shalom, Li & Kirubarajan, *Estimation
+    with Applications to Tracking and Navigation*, §5.4).
+
+    Parameters
+    ----------
+    x_true, mu : array_like, shape (..., 3)
+        True poses and estimates.
+    Sigma : array_like, shape (..., 3, 3)
+        Estimate covariances (positive definite).
+
+    Returns
+    -------
+    nees : float or ndarray, shape (...)
+    """
+    x_true = check.poses(x_true, "x_true")
+    mu = check.poses(mu, "mu")
+    Sigma = check.finite(Sigma, "Sigma")
+    if Sigma.ndim < 2 or Sigma.shape[-2:] != (3, 3):
+        raise ValueError(f"Sigma must have shape (..., 3, 3), got {Sigma.shape}")
+    e = _innovation_pose(x_true, mu)
+    d2, _ = _gaussian_terms(e, Sigma, "Sigma")
+    return check.scalar_or_array(d2)
+
+
+def _innovation_pose(x_true, mu):
+    e = np.subtract(x_true, mu)
+    e[..., 2] = wrap_angle(e[..., 2])
+    return e
+
+
+@dataclass(frozen=True)
+class FilterRun:
+    r"""The estimates of :func:`run_filter`, one row per step (after its correction).
+
+    Attributes
+    ----------
+    t : ndarray, shape (T,)
+        Step times.
+    mu : ndarray, shape (T, 3)
+    Sigma : ndarray, shape (T, 3, 3)
+    c : list of ndarray of int
+        Per step, the landmark used for each feature (given or chosen; -1 = gated out).
+    log_pz : ndarray, shape (T,)
+        :math:`\log p(z_t)` (NaN for the ML EKF, whose table returns none).
+    """
+
+    t: np.ndarray
+    mu: np.ndarray
+    Sigma: np.ndarray
+    c: list
+    log_pz: np.ndarray
+
+
+_METHODS = ("ekf", "ekf_ml", "ukf")
+
+
+def run_filter(
+    steps: Sequence,
+    mu0,
+    Sigma0,
+    m,
+    alpha,
+    sigmas,
+    *,
+    method="ekf",
+    signatures=True,
+    gate=None,
+    ukf_alpha=1.0,
+    beta=2.0,
+    kappa=0.0,
+):
+    r"""Run a filter over ``steps`` and return a :class:`FilterRun`.
+
+    Parameters
+    ----------
+    steps : sequence
+        Items with attributes ``t``, ``dt``, ``u`` (2,), ``z`` (k, 3) and ``c`` (k,),
+        e.g. :attr:`probrob.simulation.SimRun.steps` or a dataset's ``stream()``.
+    mu0 : array_like, shape (3,)
+    Sigma0 : array_like, shape (3, 3)
+    m, alpha, sigmas
+        As in :func:`ekf_localization_known_correspondences`.
+    method : {"ekf", "ekf_ml", "ukf"}
+        Table 7.2 (``c`` from the steps), Table 7.3 (``c`` chosen by maximum
+        likelihood) or Table 7.4 (``c`` from the steps).
+    signatures : bool
+        ``False`` drops the signature column of every ``z`` (association and update on
+        range and bearing only).
+    gate : float, optional
+        The χ² gate of :func:`ekf_localization` (``"ekf_ml"`` only).
+    ukf_alpha, beta, kappa : float
+        The UKF's parameters (``"ukf"`` only).
+    """
+    check.choice(method, "method", _METHODS)
+    mu, Sigma = _pose(mu0), _covariance(Sigma0, "Sigma0")
+    T = len(steps)
+    t = np.empty(T)
+    mus = np.empty((T, 3))
+    Sigmas = np.empty((T, 3, 3))
+    cs = []
+    log_pz = np.full(T, np.nan)
+    for i, step in enumerate(steps):
+        z = np.asarray(step.z, dtype=float)
+        if not signatures and z.size:
+            z = z[:, :2]
+        if method == "ekf":
+            mu, Sigma, log_pz[i] = ekf_localization_known_correspondences(
+                mu, Sigma, step.u, z, step.c, m, step.dt, alpha, sigmas, log=True
+            )
+            cs.append(np.asarray(step.c, dtype=int))
+        elif method == "ekf_ml":
+            mu, Sigma, c = ekf_localization(
+                mu, Sigma, step.u, z, m, step.dt, alpha, sigmas, gate=gate
+            )
+            cs.append(c)
+        else:
+            mu, Sigma, log_pz[i] = ukf_localization(
+                mu,
+                Sigma,
+                step.u,
+                z,
+                step.c,
+                m,
+                step.dt,
+                alpha,
+                sigmas,
+                ukf_alpha=ukf_alpha,
+                beta=beta,
+                kappa=kappa,
+                log=True,
+            )
+            cs.append(np.asarray(step.c, dtype=int))
+        t[i] = step.t
+        mus[i] = mu
+        Sigmas[i] = Sigma
+    return FilterRun(t=t, mu=mus, Sigma=Sigmas, c=cs, log_pz=log_pz)
