@@ -12,6 +12,7 @@ from probrob.localization import (
     chi2_quantile,
     ekf_localization,
     ekf_localization_known_correspondences,
+    ekf_predict_segment,
     nees,
     run_filter,
     ukf_localization,
@@ -722,3 +723,62 @@ def test_ukf_parameters_that_break_the_covariance_raise():
 def test_run_filter_rejects_unknown_method():
     with pytest.raises(ValueError, match="method"):
         run_filter([], MU, SIGMA, MAP, ALPHA, SIGMAS, method="pf")
+
+
+# --------------------------------------------------------------------------- runs
+
+
+def test_segment_prediction_equals_step_by_step():
+    """The vectorised composition of feature-free EKF steps is the book's loop, to rounding."""
+    rng = np.random.default_rng(17)
+    n = 400
+    u = np.column_stack([rng.uniform(0, 1.0, n), rng.normal(0, 0.5, n)])
+    u[::7, 1] = 0.0  # straight stretches
+    u[::11] = 0.0  # standing still
+    dt = rng.uniform(0.005, 0.05, n)
+    mus, Sigmas = ekf_predict_segment(MU, SIGMA, u, dt, ALPHA)
+    mu, Sigma = MU, SIGMA
+    for k in range(n):
+        mu, Sigma, _ = ekf_localization_known_correspondences(
+            mu, Sigma, u[k], np.zeros((0, 3)), [], MAP, dt[k], ALPHA, SIGMAS
+        )
+        assert wrap_angle(mus[k, 2] - mu[2]) == pytest.approx(0.0, abs=1e-12)
+        np.testing.assert_allclose(mus[k, :2], mu[:2], rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(Sigmas[k], Sigma, rtol=1e-10, atol=1e-14)
+
+
+@pytest.mark.parametrize("method", ["ekf", "ekf_ml", "ukf"])
+def test_run_filter_equals_the_step_functions(method):
+    m = grid_landmarks(3, 3, 4.0, origin=(-4, -4))
+    alpha = np.array([0.01, 0.002, 0.002, 0.01])
+    sigmas = np.array([0.1, 0.02, 0.1])
+    run = simulate_run(
+        [0, -3, 0],
+        loop_controls(60, 0.1, v=1.0, radius=3.0),
+        0.1,
+        m,
+        alpha,
+        sigmas,
+        max_range=7.0,
+        fov=0.4,
+        rng=4,
+    )
+    assert any(len(s.c) == 0 for s in run.steps) and any(len(s.c) > 1 for s in run.steps)
+    res = run_filter(run.steps, run.poses[0], np.eye(3) * 1e-3, m, alpha, sigmas, method=method)
+    mu, Sigma = run.poses[0], np.eye(3) * 1e-3
+    for k, s in enumerate(run.steps):
+        if method == "ekf":
+            mu, Sigma, lp = ekf_localization_known_correspondences(
+                mu, Sigma, s.u, s.z, s.c, m, s.dt, alpha, sigmas, log=True
+            )
+            assert res.log_pz[k] == pytest.approx(lp, rel=1e-9, abs=1e-12)
+        elif method == "ekf_ml":
+            mu, Sigma, c = ekf_localization(mu, Sigma, s.u, s.z, m, s.dt, alpha, sigmas)
+            np.testing.assert_array_equal(res.c[k], c)
+        else:
+            mu, Sigma, lp = ukf_localization(
+                mu, Sigma, s.u, s.z, s.c, m, s.dt, alpha, sigmas, log=True
+            )
+            assert res.log_pz[k] == pytest.approx(lp, rel=1e-9, abs=1e-12)
+        np.testing.assert_allclose(res.mu[k], mu, atol=1e-10)
+        np.testing.assert_allclose(res.Sigma[k], Sigma, rtol=1e-9, atol=1e-14)

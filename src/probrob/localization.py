@@ -31,6 +31,7 @@ landmark row of each feature (shape ``(K,)``), ``alpha`` the four motion-noise p
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -47,6 +48,7 @@ __all__ = [
     "chi2_quantile",
     "ekf_localization",
     "ekf_localization_known_correspondences",
+    "ekf_predict_segment",
     "nees",
     "run_filter",
     "ukf_localization",
@@ -188,6 +190,110 @@ def _ekf_predict(mu, Sigma, u, dt, alpha):
     return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T)
 
 
+def ekf_predict_segment(mu, Sigma, u, dt, alpha):
+    r"""Return the EKF predictions of ``n`` consecutive steps without features, all at once.
+
+        The composition of ``n`` prediction steps of Table 7.2 (lines 2–7),
+        :math:`ar\mu_k = g(u_k, ar\mu_{k-1})`,
+        :math:`ar\Sigma_k = G_k ar\Sigma_{k-1} G_k^T + V_k M_k V_k^T`, evaluated without
+        a loop over time. Two facts make this exact:
+
+        * :math:`g` moves the heading by :math:`\omega_k\Delta t_k` whatever the position, so
+          the headings are a cumulative sum and the position increments follow from them;
+        * every :math:`G_k = I + p_k e_3^T` with :math:`p_k = (G_{k,13}, G_{k,23}, 0)`, and
+          :math:`e_3^T p_j = 0`, so :math:`G_k \cdots G_{j+1} = I + (P_k - P_j) e_3^T` with
+          :math:`P_k = \sum_{i \le k} p_i`. With :math:`Q_j = V_j M_j V_j^T`,
+          :math:`r_j` its third column and :math:`q_j` its (3, 3) entry,
+
+          .. math::
+              ar\Sigma_k = \Phi_k \Sigma_0 \Phi_k^T + \sum_{j \le k} \left[Q_j + D r_j^T
+              + r_j D^T + q_j D D^T
+    ight]_{D = P_k - P_j},
+
+          and each sum over :math:`j` is a cumulative sum.
+
+        The result equals the step-by-step predictions to rounding (tested to 1e-10
+        relative). :func:`run_filter` uses it for the stretches between measurements.
+
+        Parameters
+        ----------
+        mu : array_like, shape (3,)
+        Sigma : array_like, shape (3, 3)
+        u : array_like, shape (n, 2)
+            Controls of the ``n`` steps.
+        dt : array_like, shape (n,) or float
+            Their lengths, > 0.
+        alpha : array_like, shape (4,)
+
+        Returns
+        -------
+        mu : ndarray, shape (n, 3)
+            :math:`ar\mu_1 \ldots ar\mu_n` (headings not wrapped).
+        Sigma : ndarray, shape (n, 3, 3)
+    """
+    mu, Sigma = _pose(mu), _covariance(Sigma)
+    u = check.vectors(u, "u", 2, "v, omega")
+    if u.ndim != 2:
+        raise ValueError(f"u must have shape (n, 2), got {u.shape}")
+    dt = np.broadcast_to(check.finite(dt, "dt"), u.shape[:1])
+    if np.any(dt <= 0):
+        raise ValueError("dt must be > 0")
+    return _predict_segment(mu, Sigma, u, dt, _alpha4(alpha))
+
+
+def _predict_segment(mu, Sigma, u, dt, alpha):
+    n = u.shape[0]
+    if n == 0:
+        return np.zeros((0, 3)), np.zeros((0, 3, 3))
+    # g(x, (v, ω), Δt) = g(x, (vΔt, ωΔt), 1) and V(x, u, Δt) = Δt·V(x, uΔt, 1).
+    ud = u * dt[:, None]
+    starts = np.zeros((n, 3))
+    starts[0, 2] = mu[2]
+    starts[1:, 2] = mu[2] + np.cumsum(ud[:-1, 1])
+    steps = velocity_motion(starts, ud, 1.0)  # position increments, and the new headings
+    mus = np.empty((n, 3))
+    mus[:, 0] = mu[0] + np.cumsum(steps[:, 0])
+    mus[:, 1] = mu[1] + np.cumsum(steps[:, 1])
+    mus[:, 2] = steps[:, 2]
+    G, V = velocity_motion_jacobians(starts, ud, 1.0)
+    V *= dt[:, None, None]
+    var = np.stack(
+        [
+            alpha[0] * u[:, 0] ** 2 + alpha[1] * u[:, 1] ** 2,
+            alpha[2] * u[:, 0] ** 2 + alpha[3] * u[:, 1] ** 2,
+        ],
+        axis=-1,
+    )
+    Q = (V * var[:, None, :]) @ np.swapaxes(V, -1, -2)  # (n, 3, 3)
+    P = np.zeros((n, 3))
+    P[:, 0] = np.cumsum(G[:, 0, 2])
+    P[:, 1] = np.cumsum(G[:, 1, 2])
+    r = Q[:, :, 2]
+    q = Q[:, 2, 2]
+    cum_Q = np.cumsum(Q, axis=0)
+    R = np.cumsum(r, axis=0)
+    C = np.cumsum(P[:, :, None] * r[:, None, :], axis=0)
+    W = np.cumsum(q)
+    E = np.cumsum(q[:, None] * P, axis=0)
+    F = np.cumsum(q[:, None, None] * P[:, :, None] * P[:, None, :], axis=0)
+    X = P[:, :, None] * R[:, None, :] - C
+    PP = P[:, :, None] * P[:, None, :]
+    PE = P[:, :, None] * E[:, None, :]
+    noise = (
+        cum_Q
+        + X
+        + np.swapaxes(X, -1, -2)
+        + W[:, None, None] * PP
+        - PE
+        - np.swapaxes(PE, -1, -2)
+        + F
+    )
+    Phi = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
+    Phi[:, :, 2] += P
+    Sigmas = Phi @ Sigma @ np.swapaxes(Phi, -1, -2) + noise
+    return mus, 0.5 * (Sigmas + np.swapaxes(Sigmas, -1, -2))
+
+
 def _innovation(z: np.ndarray, zhat: np.ndarray) -> np.ndarray:
     """``z - zhat`` with the bearing (second component) wrapped to [-π, π)."""
     nu = z - zhat
@@ -205,15 +311,21 @@ def _gaussian_terms(nu: np.ndarray, S: np.ndarray, name: str = "S"):
     return d2, -0.5 * (d2 + logdet + d * _LOG_2PI)
 
 
-def _kalman_update(mu_bar, Sigma_bar, nu, H, S):
-    """One EKF correction (Table 7.2, lines 15–17): returns the new μ̄, Σ̄."""
-    PHt = Sigma_bar @ H.T
+def _correct(mu_bar, Sigma_bar, nu, H, S):
+    r"""One EKF correction (Table 7.2, lines 15–17) and the feature's log-likelihood.
+
+    Returns the new μ̄, Σ̄ and :math:`\log N(\nu; 0, S)` (line 21's factor). The
+    factorisation of ``S`` checks that it is positive definite.
+    """
     L = _cholesky(S, "S")
-    # K = Σ̄ Hᵀ S⁻¹ through the Cholesky factor of S (S is symmetric).
-    K = np.linalg.solve(L.T, np.linalg.solve(L, PHt.T)).T
+    S_inv = np.linalg.inv(S)
+    K = Sigma_bar @ H.T @ S_inv
     mu_bar = mu_bar + K @ nu
-    Sigma_bar = Sigma_bar - K @ H @ Sigma_bar
-    return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T)
+    Sigma_bar = Sigma_bar - K @ (H @ Sigma_bar)
+    d2 = float(nu @ S_inv @ nu)
+    logdet = 2.0 * float(np.sum(np.log(np.diagonal(L))))
+    logp = -0.5 * (d2 + logdet + nu.shape[0] * _LOG_2PI)
+    return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T), logp
 
 
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
@@ -355,21 +467,31 @@ def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sig
     dt = check.positive_scalar(dt, "dt")
     alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
 
+    mu_t, Sigma_t, log_pz = _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas)
+    return mu_t, Sigma_t, (log_pz if log else math.exp(log_pz))
+
+
+def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
+    """Table 7.2 on validated input; returns μ, Σ and log p(z)."""
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)
+    return _ekf_known_correct(mu_bar, Sigma_bar, z, c, m, sigmas)
+
+
+def _ekf_known_correct(mu_bar, Sigma_bar, z, c, m, sigmas):
+    """Lines 8–21 of Table 7.2: the features in sequence."""
     d = z.shape[1]
     Q = np.diag(sigmas[:d] ** 2)
     log_pz = 0.0
     for i in range(z.shape[0]):
-        landmark = m[c[i]]
-        zhat = landmark_measurement(mu_bar, landmark)[:d]
-        H = landmark_measurement_jacobian(mu_bar, landmark)[:d]
+        landmark = m[c[i], :d]
+        zhat = landmark_measurement(mu_bar, landmark)
+        H = landmark_measurement_jacobian(mu_bar, landmark)
         S = H @ Sigma_bar @ H.T + Q
         nu = _innovation(z[i], zhat)
-        _, logp = _gaussian_terms(nu, S)
-        log_pz += float(logp)
-        mu_bar, Sigma_bar = _kalman_update(mu_bar, Sigma_bar, nu, H, S)
+        mu_bar, Sigma_bar, logp = _correct(mu_bar, Sigma_bar, nu, H, S)
+        log_pz += logp
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
-    return mu_t, Sigma_t, (log_pz if log else math.exp(log_pz))
+    return mu_t, Sigma_t, log_pz
 
 
 # --------------------------------------------------------------------------- Table 7.3
@@ -423,12 +545,18 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
         threshold = chi2_quantile(float(g), z.shape[1])
 
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)
+    return _ekf_ml_correct(mu_bar, Sigma_bar, z, m, sigmas, threshold)
+
+
+def _ekf_ml_correct(mu_bar, Sigma_bar, z, m, sigmas, threshold):
+    """Lines 8–22 of Table 7.3: every landmark scored at once, features in sequence."""
     d = z.shape[1]
     Q = np.diag(sigmas[:d] ** 2)
+    landmarks = m[:, :d]
     chosen = np.full(z.shape[0], -1, dtype=int)
     for i in range(z.shape[0]):
-        zhat = landmark_measurement(mu_bar, m)[:, :d]  # (L, d)
-        H = landmark_measurement_jacobian(mu_bar, m)[:, :d, :]  # (L, d, 3)
+        zhat = landmark_measurement(mu_bar, landmarks)  # (L, d)
+        H = landmark_measurement_jacobian(mu_bar, landmarks)  # (L, d, 3)
         S = H @ Sigma_bar @ np.swapaxes(H, -1, -2) + Q
         nu = _innovation(z[i], zhat)
         d2, logp = _gaussian_terms(nu, S)
@@ -436,7 +564,7 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
         if threshold is not None and d2[j] > threshold:
             continue
         chosen[i] = j
-        mu_bar, Sigma_bar = _kalman_update(mu_bar, Sigma_bar, nu[j], H[j], S[j])
+        mu_bar, Sigma_bar, _ = _correct(mu_bar, Sigma_bar, nu[j], H[j], S[j])
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
     return mu_t, Sigma_t, chosen
 
@@ -578,9 +706,33 @@ def ukf_localization(
     c = _correspondences(c, z.shape[0], m.shape[0])
     dt = check.positive_scalar(dt, "dt")
     alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 2)
+    params = _ukf_params(ukf_alpha, beta, kappa)
+    mu_t, Sigma_t, logp = _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params)
+    return mu_t, Sigma_t, (logp if log else math.exp(logp))
+
+
+def _ukf_params(ukf_alpha, beta, kappa):
+    a = check.positive_scalar(ukf_alpha, "ukf_alpha")
+    beta = float(check.finite(beta, "beta"))
+    kappa = float(check.finite(kappa, "kappa"))
+    if 5 + kappa <= 0:
+        raise ValueError(f"kappa must satisfy n + kappa > 0 (n >= 5), got {kappa!r}")
+    return a, beta, kappa
+
+
+@functools.lru_cache(maxsize=64)
+def _weights_cached(n, a, beta, kappa):
+    gamma, wm, wc = ukf_weights(n, a, beta, kappa)
+    wm.setflags(write=False)
+    wc.setflags(write=False)
+    return gamma, wm, wc
+
+
+def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
+    """Table 7.4 on validated input; returns μ, Σ and log p(z)."""
     k = z.shape[0]
     n = 5 + 2 * k
-    gamma, wm, wc = ukf_weights(n, ukf_alpha, beta, kappa)
+    gamma, wm, wc = _weights_cached(n, *params)
 
     # Lines 2-6: augmented mean and the square root of the block-diagonal covariance
     # (block by block: M_t is zero for a robot at rest, which a Cholesky of the whole
@@ -605,7 +757,7 @@ def ukf_localization(
     _covariance(Sigma_bar, "the predicted covariance (check ukf_alpha, beta, kappa)")
     if k == 0:
         mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
-        return mu_t, Sigma_t, (0.0 if log else 1.0)
+        return mu_t, Sigma_t, 0.0
 
     # Lines 10-13: predicted measurements of every sigma point, stacked over features.
     Z = landmark_measurement(xbar[:, None, :], m[c][None, :, :])[..., :2]  # (2n+1, K, 2)
@@ -621,13 +773,15 @@ def ukf_localization(
     # Lines 14-17.
     nu = _innovation(z[:, :2], zhat).reshape(2 * k)
     L = _cholesky(S, "S")
-    K = np.linalg.solve(L.T, np.linalg.solve(L, Pxz.T)).T
+    S_inv = np.linalg.inv(S)
+    K = Pxz @ S_inv
     mu_t = mu_bar + K @ nu
     Sigma_t = Sigma_bar - K @ S @ K.T
     Sigma_t = 0.5 * (Sigma_t + Sigma_t.T)
-    _, logp = _gaussian_terms(nu, S)
+    logdet = 2.0 * float(np.sum(np.log(np.diagonal(L))))
+    logp = -0.5 * (float(nu @ S_inv @ nu) + logdet + 2 * k * _LOG_2PI)
     mu_t, Sigma_t = _finish(mu_t, Sigma_t)
-    return mu_t, Sigma_t, (float(logp) if log else math.exp(float(logp)))
+    return mu_t, Sigma_t, logp
 
 
 # --------------------------------------------------------------------------- evaluation
@@ -732,44 +886,74 @@ def run_filter(
     """
     check.choice(method, "method", _METHODS)
     mu, Sigma = _pose(mu0), _covariance(Sigma0, "Sigma0")
+    m = _landmark_map(m)
+    alpha = _alpha4(alpha)
+    sigmas = _sigmas(sigmas, 3 if method != "ukf" else 2)
+    threshold = None
+    if gate is not None:
+        if method != "ekf_ml":
+            raise ValueError("gate applies to method='ekf_ml' only")
+        g = check.finite(gate, "gate")
+        if g.ndim != 0 or not 0.0 < float(g) < 1.0:
+            raise ValueError(f"gate must be None or a probability in (0, 1), got {gate!r}")
+        threshold = chi2_quantile(float(g), 3 if signatures else 2)
+    params = _ukf_params(ukf_alpha, beta, kappa)
+
     T = len(steps)
     t = np.empty(T)
-    mus = np.empty((T, 3))
-    Sigmas = np.empty((T, 3, 3))
-    cs = []
-    log_pz = np.full(T, np.nan)
+    dts = np.empty(T)
+    us = np.empty((T, 2))
+    zs, cs_true = [], []
     for i, step in enumerate(steps):
-        z = np.asarray(step.z, dtype=float)
+        t[i] = step.t
+        dts[i] = step.dt
+        us[i] = step.u
+        z = _features(step.z)
         if not signatures and z.size:
             z = z[:, :2]
+        zs.append(z)
+        cs_true.append(
+            _correspondences(step.c, z.shape[0], m.shape[0]) if method != "ekf_ml" else None
+        )
+    if not np.all(np.isfinite(us)):
+        raise ValueError("steps: every u must be finite")
+    if not np.all(dts > 0):
+        raise ValueError("steps: every dt must be > 0")
+
+    mus = np.empty((T, 3))
+    Sigmas = np.empty((T, 3, 3))
+    cs = [None] * T
+    log_pz = np.full(T, np.nan)
+    i = 0
+    while i < T:
+        if method != "ukf" and zs[i].shape[0] == 0:
+            # A stretch without features: the exact vectorised composition of predictions.
+            j = i
+            while j < T and zs[j].shape[0] == 0:
+                j += 1
+            seg_mu, seg_Sigma = _predict_segment(mu, Sigma, us[i:j], dts[i:j], alpha)
+            seg_mu[:, 2] = wrap_angle(seg_mu[:, 2])
+            mus[i:j], Sigmas[i:j] = seg_mu, seg_Sigma
+            for k in range(i, j):
+                cs[k] = np.zeros(0, dtype=int)
+            log_pz[i:j] = 0.0 if method == "ekf" else np.nan
+            mu, Sigma = seg_mu[-1], seg_Sigma[-1]
+            i = j
+            continue
         if method == "ekf":
-            mu, Sigma, log_pz[i] = ekf_localization_known_correspondences(
-                mu, Sigma, step.u, z, step.c, m, step.dt, alpha, sigmas, log=True
+            mu, Sigma, log_pz[i] = _ekf_known(
+                mu, Sigma, us[i], zs[i], cs_true[i], m, dts[i], alpha, sigmas
             )
-            cs.append(np.asarray(step.c, dtype=int))
+            cs[i] = cs_true[i]
         elif method == "ekf_ml":
-            mu, Sigma, c = ekf_localization(
-                mu, Sigma, step.u, z, m, step.dt, alpha, sigmas, gate=gate
-            )
-            cs.append(c)
+            mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, us[i], dts[i], alpha)
+            mu, Sigma, cs[i] = _ekf_ml_correct(mu_bar, Sigma_bar, zs[i], m, sigmas, threshold)
         else:
-            mu, Sigma, log_pz[i] = ukf_localization(
-                mu,
-                Sigma,
-                step.u,
-                z,
-                step.c,
-                m,
-                step.dt,
-                alpha,
-                sigmas,
-                ukf_alpha=ukf_alpha,
-                beta=beta,
-                kappa=kappa,
-                log=True,
+            mu, Sigma, log_pz[i] = _ukf(
+                mu, Sigma, us[i], zs[i], cs_true[i], m, dts[i], alpha, sigmas, params
             )
-            cs.append(np.asarray(step.c, dtype=int))
-        t[i] = step.t
+            cs[i] = cs_true[i]
         mus[i] = mu
         Sigmas[i] = Sigma
+        i += 1
     return FilterRun(t=t, mu=mus, Sigma=Sigmas, c=cs, log_pz=log_pz)
