@@ -791,33 +791,21 @@ def test_run_filter_equals_the_step_functions(method):
 
 @pytest.mark.slow
 def test_fit_motion_noise_recovers_alpha_on_a_simulation():
-    """1600 windows of 0.5 s over a run with varied commands.
-
-    α1, α3, α4 come back within 25 % (seeds 0-5 stay within 22 %); α2 carries only ~7 %
-    of the along-track variance here and is weakly identified, so the test checks what
-    the data do fix: the mean predicted along-track and heading variances.
-    """
+    """1600 windows of 0.5 s, alternately straight (v varies, ω = 0) and turning slowly
+    (v = 0.1, ω varies), so that the four terms are told apart: every α comes back within
+    25 % (about 3.5 standard errors; seeds 0-7 stay within 20 %)."""
     rng = np.random.default_rng(1)
     alpha = np.array([0.02, 0.004, 0.003, 0.03])
-    T, dt = 16000, 0.05
-    per = 10  # commands change every 0.5 s
-    v = np.repeat(rng.uniform(0.2, 1.5, T // per), per)
-    w = np.repeat(rng.uniform(-1.0, 1.0, T // per), per)
-    controls = np.column_stack([v, w])
+    T, dt, per = 16000, 0.05, 10  # commands change every 0.5 s
+    nw = T // per
+    straight = np.arange(nw) % 2 == 0
+    v = np.where(straight, rng.uniform(0.5, 1.5, nw), 0.1)
+    w = np.where(straight, 0.0, rng.choice([-1, 1], nw) * rng.uniform(0.5, 1.5, nw))
+    controls = np.column_stack([np.repeat(v, per), np.repeat(w, per)])
     run = simulate_run([0, 0, 0], controls, dt, MAP[:2], alpha, SIGMAS, rng=rng)
     fit = fit_motion_noise(controls, np.full(T, dt), run.poses, window=0.5)
-    assert fit.windows == T // per
-    np.testing.assert_allclose(fit.alpha[[0, 2, 3]], alpha[[0, 2, 3]], rtol=0.25)
-    X = np.column_stack(
-        [
-            np.full(T // per, per * dt**2) * v[::per] ** 2,
-            np.full(T // per, per * dt**2) * w[::per] ** 2,
-        ]
-    )
-    for cols, j in (([0, 1], 0), ([2, 3], 2)):  # along-track, heading
-        predicted = np.mean(X @ fit.alpha[cols])
-        assert predicted == pytest.approx(np.mean(X @ alpha[cols]), rel=0.1)
-        assert predicted == pytest.approx(np.mean(fit.errors[:, j] ** 2), rel=0.1)
+    assert fit.windows == nw
+    np.testing.assert_allclose(fit.alpha, alpha, rtol=0.25)
     # Under the fitted noise the window errors are consistent (χ²₃: mean 3).
     assert 2.7 < np.nanmean(fit.nees) < 3.3
 

@@ -252,14 +252,14 @@ def simulate_run(
 
     T = controls.shape[0]
     alpha6 = np.concatenate([alpha, [0.0, 0.0]])
-    poses = np.empty((T + 1, 3))
-    odo = np.empty((T + 1, 3))
-    poses[0] = odo[0] = x0
-    for k in range(T):  # a path is sequential: each pose starts where the last one ended
-        poses[k + 1] = sample_motion_model_velocity(
-            controls[k], poses[k], dt, alpha6, sample=_exact_normal, rng=rng
-        )
-        odo[k + 1] = velocity_motion(odo[k], controls[k], dt)
+    # Every step drawn at once from the robot's own frame (the sampler at the origin,
+    # heading 0), then chained: the motion is rotation- and translation-equivariant and,
+    # with γ = 0, turns the heading by ω̂Δt whatever the start pose.
+    local = sample_motion_model_velocity(
+        controls, np.zeros(3), dt, alpha6, sample=_exact_normal, rng=rng
+    )
+    poses = _chain(x0, local)
+    odo = _chain(x0, velocity_motion(np.zeros(3), controls, dt))
 
     truth = landmark_measurement(poses[1:, None, :], m[None, :, :])  # (T, L, 3)
     visible = (truth[..., 0] <= max_range) & (np.abs(truth[..., 1]) <= fov)
@@ -273,6 +273,19 @@ def simulate_run(
         idx = np.flatnonzero(visible[k])
         steps.append(Step(t=float(t[k + 1]), dt=dt, u=controls[k].copy(), z=z[k, idx], c=idx))
     return SimRun(t=t, poses=poses, commanded=controls, odometry=odo, steps=steps, landmarks=m)
+
+
+def _chain(x0: np.ndarray, local: np.ndarray) -> np.ndarray:
+    """Poses ``(T + 1, 3)`` from ``x0`` and per-step motions expressed in the robot frame."""
+    T = local.shape[0]
+    out = np.empty((T + 1, 3))
+    out[0] = x0
+    heading = x0[2] + np.concatenate([[0.0], np.cumsum(local[:, 2])])
+    c, s = np.cos(heading[:-1]), np.sin(heading[:-1])
+    out[1:, 0] = x0[0] + np.cumsum(c * local[:, 0] - s * local[:, 1])
+    out[1:, 1] = x0[1] + np.cumsum(s * local[:, 0] + c * local[:, 1])
+    out[1:, 2] = heading[1:]
+    return out
 
 
 def _exact_normal(b2, size=None, rng=None):
