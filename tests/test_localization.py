@@ -10,6 +10,7 @@ import pytest
 from probrob.angles import wrap_angle
 from probrob.localization import (
     chi2_quantile,
+    covariance_ellipse,
     ekf_localization,
     ekf_localization_known_correspondences,
     ekf_predict_segment,
@@ -18,6 +19,7 @@ from probrob.localization import (
     nees,
     run_filter,
     ukf_localization,
+    ukf_localization_ml,
     ukf_weights,
 )
 from probrob.motion import velocity_motion
@@ -821,3 +823,58 @@ def test_fit_measurement_noise_recovers_bias_and_sigma():
     assert np.all(np.abs(bias - [0.05, -0.01]) < 4 * np.array([0.1, 0.03]) / np.sqrt(4000))
     np.testing.assert_allclose(sigma, [0.1, 0.03], rtol=0.05)
     np.testing.assert_allclose(robust, [0.1, 0.03], rtol=0.08)
+
+
+def test_ukf_ml_association_on_a_well_separated_map_equals_known():
+    m = grid_landmarks(4, 4, 10.0, origin=(-15, -15))
+    alpha = np.array([0.01, 0.001, 0.001, 0.01])
+    sigmas = np.array([0.1, 0.02, 0.1])
+    run = simulate_run(
+        [0, -10, 0],
+        loop_controls(100, 0.2, v=1.0, radius=10.0),
+        0.2,
+        m,
+        alpha,
+        sigmas,
+        max_range=12,
+        fov=1.2,
+        rng=2,
+    )
+    ml = run_filter(run.steps, run.poses[0], np.eye(3) * 1e-3, m, alpha, sigmas, method="ukf_ml")
+    known = run_filter(run.steps, run.poses[0], np.eye(3) * 1e-3, m, alpha, sigmas, method="ukf")
+    np.testing.assert_array_equal(np.concatenate(ml.c), np.concatenate([s.c for s in run.steps]))
+    np.testing.assert_allclose(ml.mu, known.mu, atol=1e-12)
+    np.testing.assert_allclose(ml.Sigma, known.Sigma, atol=1e-14)
+
+
+def test_ukf_ml_scores_each_landmark_with_the_one_feature_table():
+    """The association statistics are the one-feature UKF's: its p_z picks the same landmark."""
+    rng = np.random.default_rng(41)
+    z = _features(velocity_motion(MU, U, DT), [2], rng)
+    logps = [
+        ukf_localization(MU, SIGMA, U, z, [k], MAP, DT, ALPHA, SIGMAS, log=True)[2]
+        for k in range(len(MAP))
+    ]
+    _, _, c = ukf_localization_ml(MU, SIGMA, U, z, MAP, DT, ALPHA, SIGMAS)
+    assert c.tolist() == [int(np.argmax(logps))] == [2]
+    clutter = np.array([[3.0, 2.5, 0.0]])
+    mu_g, S_g, c_g = ukf_localization_ml(MU, SIGMA, U, clutter, MAP, DT, ALPHA, SIGMAS, gate=0.99)
+    assert c_g.tolist() == [-1]
+    mu_0, S_0, _ = ukf_localization(MU, SIGMA, U, np.zeros((0, 2)), [], MAP, DT, ALPHA, SIGMAS)
+    np.testing.assert_allclose(mu_g, mu_0, atol=1e-14)
+    np.testing.assert_allclose(S_g, S_0, atol=1e-14)
+
+
+def test_covariance_ellipse_is_the_chi2_contour():
+    Sigma = np.array([[0.5, 0.2, 0.01], [0.2, 0.3, 0.0], [0.01, 0.0, 0.1]])
+    xy = covariance_ellipse([1.0, 2.0, 0.3], Sigma, p=0.95)
+    d = xy - [1.0, 2.0]
+    d2 = np.einsum("ni,ij,nj->n", d, np.linalg.inv(Sigma[:2, :2]), d)
+    np.testing.assert_allclose(d2, chi2_quantile(0.95, 2), rtol=1e-10)
+    # 95 % of Gaussian draws fall inside (2000 draws: within 4 standard errors).
+    rng = np.random.default_rng(0)
+    draws = rng.multivariate_normal([0, 0], Sigma[:2, :2], size=2000)
+    inside = np.einsum("ni,ij,nj->n", draws, np.linalg.inv(Sigma[:2, :2]), draws) <= chi2_quantile(
+        0.95, 2
+    )
+    assert abs(inside.mean() - 0.95) < 4 * np.sqrt(0.95 * 0.05 / 2000)

@@ -48,6 +48,7 @@ __all__ = [
     "FilterRun",
     "MotionNoiseFit",
     "chi2_quantile",
+    "covariance_ellipse",
     "ekf_localization",
     "ekf_localization_known_correspondences",
     "ekf_predict_segment",
@@ -56,6 +57,7 @@ __all__ = [
     "nees",
     "run_filter",
     "ukf_localization",
+    "ukf_localization_ml",
     "ukf_weights",
 ]
 
@@ -546,12 +548,7 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
     z = _features(z)
     dt = check.positive_scalar(dt, "dt")
     alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
-    threshold = None
-    if gate is not None:
-        g = check.finite(gate, "gate")
-        if g.ndim != 0 or not 0.0 < float(g) < 1.0:
-            raise ValueError(f"gate must be None or a probability in (0, 1), got {gate!r}")
-        threshold = chi2_quantile(float(g), z.shape[1])
+    threshold = _gate_threshold(gate, z.shape[1])
 
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)
     return _ekf_ml_correct(mu_bar, Sigma_bar, z, m, sigmas, threshold)
@@ -796,6 +793,102 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
     return mu_t, Sigma_t, logp
 
 
+def ukf_localization_ml(
+    mu,
+    Sigma,
+    u,
+    z,
+    m,
+    dt,
+    alpha,
+    sigmas,
+    *,
+    gate=None,
+    ukf_alpha=1.0,
+    beta=2.0,
+    kappa=0.0,
+):
+    r"""Return :math:`\mu_t, \Sigma_t` and the maximum-likelihood landmark of each feature (UKF).
+
+    Not a table of the book: Table 7.4 with the association of Table 7.3. Every
+    landmark :math:`k` is scored as if it were the only feature, with exactly the
+    one-feature Table 7.4 (:math:`L = 7`): the predicted measurement :math:`\hat z^k`
+    and its covariance :math:`S^k` from the same 15 sigma points; each feature takes
+    the landmark of highest :math:`N(z^i; \hat z^k, S^k)` (all features against the same
+    prediction, so two features may pick the same landmark). The features are then
+    used together in one update by :func:`ukf_localization` with these correspondences.
+
+    Parameters
+    ----------
+    mu, Sigma, u, z, m, dt, alpha, sigmas, ukf_alpha, beta, kappa
+        As in :func:`ukf_localization` (no ``c``); ``z`` rows :math:`(r, \phi)` or
+        :math:`(r, \phi, s)` — the signature is not used.
+    gate : float, optional
+        As in :func:`ekf_localization`: a feature whose best landmark lies outside the
+        χ² gate of 2 degrees of freedom is rejected (index -1). Off by default.
+
+    Returns
+    -------
+    mu : ndarray, shape (3,)
+    Sigma : ndarray, shape (3, 3)
+    c : ndarray of int, shape (K,)
+    """
+    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
+    m = _landmark_map(m)
+    z = _features(z)
+    dt = check.positive_scalar(dt, "dt")
+    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 2)
+    params = _ukf_params(ukf_alpha, beta, kappa)
+    threshold = _gate_threshold(gate, 2)
+    return _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold)
+
+
+def _gate_threshold(gate, dof):
+    if gate is None:
+        return None
+    g = check.finite(gate, "gate")
+    if g.ndim != 0 or not 0.0 < float(g) < 1.0:
+        raise ValueError(f"gate must be None or a probability in (0, 1), got {gate!r}")
+    return chi2_quantile(float(g), dof)
+
+
+def _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold):
+    k = z.shape[0]
+    if k == 0:
+        mu_t, Sigma_t, _ = _ukf(
+            mu, Sigma, u, z, np.zeros(0, dtype=int), m, dt, alpha, sigmas, params
+        )
+        return mu_t, Sigma_t, np.zeros(0, dtype=int)
+    # One-feature Table 7.4 (n = 7) for every landmark at once.
+    n = 7
+    gamma, wm, wc = _weights_cached(n, *params)
+    root = np.zeros((n, n))
+    root[:3, :3] = _sqrt_psd(Sigma)
+    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([_motion_noise(alpha, u), sigmas[:2] ** 2])))
+    chi = np.zeros((2 * n + 1, n))
+    chi[:, :3] = mu
+    chi[1 : n + 1] += gamma * root.T
+    chi[n + 1 :] -= gamma * root.T
+    xbar = velocity_motion(chi[:, :3], u + chi[:, 3:5], dt)
+    Z = landmark_measurement(xbar[:, None, :], m[None, :, :2])  # (15, L, 2)
+    Z = Z + chi[:, None, 5:7]
+    zhat = np.einsum("i,ild->ld", wm, Z)
+    ref = Z[0, :, 1]
+    zhat[:, 1] = ref + wm @ wrap_angle(Z[:, :, 1] - ref)
+    dz = _innovation(Z, zhat)  # (15, L, 2)
+    S = np.einsum("i,ila,ilb->lab", wc, dz, dz)
+    chosen = np.full(k, -1, dtype=int)
+    for i in range(k):
+        nu = _innovation(z[i, :2], zhat)
+        d2, logp = _gaussian_terms(nu, S)
+        j = int(np.argmax(logp))
+        if threshold is None or d2[j] <= threshold:
+            chosen[i] = j
+    keep = chosen >= 0
+    mu_t, Sigma_t, _ = _ukf(mu, Sigma, u, z[keep], chosen[keep], m, dt, alpha, sigmas, params)
+    return mu_t, Sigma_t, chosen
+
+
 # --------------------------------------------------------------------------- evaluation
 
 
@@ -971,6 +1064,41 @@ def fit_motion_noise(u, dt, poses, *, window):
     return MotionNoiseFit(alpha=alpha, windows=len(errors), errors=errors, nees=nees_w)
 
 
+def covariance_ellipse(mu, Sigma, p=0.95, n=60):
+    r"""Return ``n`` points on the ``p``-probability ellipse of the position of ``(mu, Sigma)``.
+
+    The boundary of :math:`\{x : (x - \mu_{xy})^T \Sigma_{xy}^{-1} (x - \mu_{xy}) \le
+    \chi^2_2(p)\}` for the 2×2 position block :math:`\Sigma_{xy}`: the region that
+    holds the true position with probability ``p`` if the estimate is right.
+
+    Parameters
+    ----------
+    mu : array_like, shape (3,) or (2,)
+    Sigma : array_like, shape (3, 3) or (2, 2)
+        Positive semi-definite.
+    p : float
+        Probability in (0, 1).
+    n : int
+        Number of points (the first is repeated at the end: ``n + 1`` rows).
+
+    Returns
+    -------
+    xy : ndarray, shape (n + 1, 2)
+    """
+    mu = check.finite(mu, "mu")[:2]
+    S = check.finite(Sigma, "Sigma")
+    if S.ndim != 2 or S.shape[0] != S.shape[1] or S.shape[0] not in (2, 3):
+        raise ValueError(f"Sigma must have shape (3, 3) or (2, 2), got {S.shape}")
+    S = S[:2, :2]
+    w, U = np.linalg.eigh(0.5 * (S + S.T))
+    if w[0] < -1e-12 * max(1.0, w[-1]):
+        raise ValueError("Sigma is not positive semi-definite")
+    radius = math.sqrt(chi2_quantile(p, 2))
+    t = np.linspace(0.0, 2.0 * np.pi, int(n) + 1)
+    circle = np.stack([np.cos(t), np.sin(t)], axis=-1)
+    return mu + radius * (circle * np.sqrt(np.clip(w, 0.0, None))) @ U.T
+
+
 def nees(x_true, mu, Sigma):
     r"""Return the normalised estimation error squared :math:`e^T \Sigma^{-1} e`.
 
@@ -1018,7 +1146,7 @@ class FilterRun:
     c : list of ndarray of int
         Per step, the landmark used for each feature (given or chosen; -1 = gated out).
     log_pz : ndarray, shape (T,)
-        :math:`\log p(z_t)` (NaN for the ML EKF, whose table returns none).
+        :math:`\log p(z_t)` (NaN for the ML filters, which return none).
     """
 
     t: np.ndarray
@@ -1028,7 +1156,7 @@ class FilterRun:
     log_pz: np.ndarray
 
 
-_METHODS = ("ekf", "ekf_ml", "ukf")
+_METHODS = ("ekf", "ekf_ml", "ukf", "ukf_ml")
 
 
 def run_filter(
@@ -1057,30 +1185,27 @@ def run_filter(
     Sigma0 : array_like, shape (3, 3)
     m, alpha, sigmas
         As in :func:`ekf_localization_known_correspondences`.
-    method : {"ekf", "ekf_ml", "ukf"}
+    method : {"ekf", "ekf_ml", "ukf", "ukf_ml"}
         Table 7.2 (``c`` from the steps), Table 7.3 (``c`` chosen by maximum
-        likelihood) or Table 7.4 (``c`` from the steps).
+        likelihood), Table 7.4 (``c`` from the steps) or :func:`ukf_localization_ml`.
+        Steps without features of the two EKFs are predicted together by
+        :func:`ekf_predict_segment` (exact).
     signatures : bool
         ``False`` drops the signature column of every ``z`` (association and update on
         range and bearing only).
     gate : float, optional
-        The χ² gate of :func:`ekf_localization` (``"ekf_ml"`` only).
+        The χ² gate of :func:`ekf_localization` (``"ekf_ml"`` and ``"ukf_ml"`` only).
     ukf_alpha, beta, kappa : float
-        The UKF's parameters (``"ukf"`` only).
+        The UKF's parameters (``"ukf"`` and ``"ukf_ml"``).
     """
     check.choice(method, "method", _METHODS)
     mu, Sigma = _pose(mu0), _covariance(Sigma0, "Sigma0")
     m = _landmark_map(m)
     alpha = _alpha4(alpha)
-    sigmas = _sigmas(sigmas, 3 if method != "ukf" else 2)
-    threshold = None
-    if gate is not None:
-        if method != "ekf_ml":
-            raise ValueError("gate applies to method='ekf_ml' only")
-        g = check.finite(gate, "gate")
-        if g.ndim != 0 or not 0.0 < float(g) < 1.0:
-            raise ValueError(f"gate must be None or a probability in (0, 1), got {gate!r}")
-        threshold = chi2_quantile(float(g), 3 if signatures else 2)
+    sigmas = _sigmas(sigmas, 3 if method.startswith("ekf") else 2)
+    if gate is not None and method not in ("ekf_ml", "ukf_ml"):
+        raise ValueError("gate applies to method='ekf_ml' or 'ukf_ml' only")
+    threshold = _gate_threshold(gate, 3 if signatures and method == "ekf_ml" else 2)
     params = _ukf_params(ukf_alpha, beta, kappa)
 
     T = len(steps)
@@ -1110,7 +1235,7 @@ def run_filter(
     log_pz = np.full(T, np.nan)
     i = 0
     while i < T:
-        if method != "ukf" and zs[i].shape[0] == 0:
+        if method.startswith("ekf") and zs[i].shape[0] == 0:
             # A stretch without features: the exact vectorised composition of predictions.
             j = i
             while j < T and zs[j].shape[0] == 0:
@@ -1132,6 +1257,10 @@ def run_filter(
         elif method == "ekf_ml":
             mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, us[i], dts[i], alpha)
             mu, Sigma, cs[i] = _ekf_ml_correct(mu_bar, Sigma_bar, zs[i], m, sigmas, threshold)
+        elif method == "ukf_ml":
+            mu, Sigma, cs[i] = _ukf_ml(
+                mu, Sigma, us[i], zs[i], m, dts[i], alpha, sigmas, params, threshold
+            )
         else:
             mu, Sigma, log_pz[i] = _ukf(
                 mu, Sigma, us[i], zs[i], cs_true[i], m, dts[i], alpha, sigmas, params
