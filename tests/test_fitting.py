@@ -18,9 +18,10 @@ from probrob.angles import angle_diff
 from probrob.distributions import sample_normal_distribution
 from probrob.fitting import (
     MotionWindows,
-    dead_reckoning,
     fit_odometry_alpha,
     fit_velocity_alpha,
+    frame_errors,
+    integrate_commands,
     interpolate_poses,
     motion_windows,
     odometry_log_likelihood,
@@ -264,20 +265,20 @@ def test_fit_bad_arrays():
 # --------------------------------------------------------------------------- recordings
 
 
-def test_dead_reckoning_with_one_command_is_one_arc():
+def test_integrate_commands_with_one_command_is_one_arc():
     """Constant (v, ω) over irregular stamps: the exact arc, however it is cut."""
     rng = np.random.default_rng(31)
     t = np.cumsum(rng.uniform(0.005, 0.3, 400))
     u = np.tile([0.3, -0.7], (t.size, 1))
     x0 = np.array([1.0, -2.0, 3.0])
-    poses = dead_reckoning(t, u, x0)
+    poses = integrate_commands(t, u, x0)
     for k in (1, 57, t.size - 1):
         np.testing.assert_allclose(
             poses[k], velocity_motion(x0, u[0], t[k] - t[0]), rtol=0, atol=1e-10
         )
 
 
-def test_dead_reckoning_matches_a_step_by_step_loop():
+def test_integrate_commands_matches_a_step_by_step_loop():
     rng = np.random.default_rng(32)
     t = np.cumsum(rng.uniform(0.01, 0.1, 300))
     u = np.stack([rng.uniform(0, 0.1, t.size), rng.uniform(-0.4, 0.4, t.size)], axis=-1)
@@ -286,31 +287,31 @@ def test_dead_reckoning_matches_a_step_by_step_loop():
     loop = [x0]
     for i in range(t.size - 1):
         loop.append(velocity_motion(loop[-1], u[i], t[i + 1] - t[i]))
-    np.testing.assert_allclose(dead_reckoning(t, u, x0), np.array(loop), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(integrate_commands(t, u, x0), np.array(loop), rtol=0, atol=1e-12)
 
 
-def test_dead_reckoning_between_stamps_takes_the_partial_arc():
+def test_integrate_commands_between_stamps_takes_the_partial_arc():
     t = np.array([0.0, 1.0, 2.0])
     u = np.array([[1.0, 0.0], [1.0, np.pi / 2], [9.0, 9.0]])
     x0 = np.zeros(3)
-    out = dead_reckoning(t, u, x0, t_out=[0.5, 1.0, 2.0])
+    out = integrate_commands(t, u, x0, t_out=[0.5, 1.0, 2.0])
     np.testing.assert_allclose(out[0], [0.5, 0.0, 0.0], atol=1e-15)
     np.testing.assert_allclose(out[1], [1.0, 0.0, 0.0], atol=1e-15)
     r = 1.0 / (np.pi / 2)  # a quarter circle of radius 2/π to the left
     np.testing.assert_allclose(out[2], [1.0 + r, r, np.pi / 2], atol=1e-14)
 
 
-def test_dead_reckoning_bad_input():
+def test_integrate_commands_bad_input():
     t = np.array([0.0, 1.0, 2.0])
     u = np.zeros((3, 2))
     with pytest.raises(ValueError, match="t must be strictly increasing"):
-        dead_reckoning([0.0, 1.0, 1.0], u, np.zeros(3))
+        integrate_commands([0.0, 1.0, 1.0], u, np.zeros(3))
     with pytest.raises(ValueError, match="u must have shape"):
-        dead_reckoning(t, u[:2], np.zeros(3))
+        integrate_commands(t, u[:2], np.zeros(3))
     with pytest.raises(ValueError, match="x0"):
-        dead_reckoning(t, u, np.zeros((2, 3)))
+        integrate_commands(t, u, np.zeros((2, 3)))
     with pytest.raises(ValueError, match="t_out"):
-        dead_reckoning(t, u, np.zeros(3), t_out=[2.5])
+        integrate_commands(t, u, np.zeros(3), t_out=[2.5])
 
 
 def test_interpolate_poses_takes_the_short_way_across_pi():
@@ -333,7 +334,7 @@ def synthetic_recording(rng, duration=60.0):
     truth_t = np.linspace(t[0] - 1.0, t[-1] + 1.0, 20_000)  # 3 ms apart
     inside = (truth_t >= t[0]) & (truth_t <= t[-1])
     truth = np.zeros((truth_t.size, 3))
-    truth[inside] = dead_reckoning(t, u, [0.3, 0.4, 0.5], truth_t[inside])
+    truth[inside] = integrate_commands(t, u, [0.3, 0.4, 0.5], truth_t[inside])
     return t, u, truth_t, truth, inside
 
 
@@ -377,3 +378,23 @@ def test_motion_windows_bad_input():
         motion_windows(t, u, truth_t, truth[:-1], 1.0)
     with pytest.raises(ValueError, match="command_t"):
         motion_windows(t[::-1], u, truth_t, truth, 1.0)
+
+
+def test_frame_errors_undo_a_known_offset():
+    """A pose moved by (a, c, e) in the reference frame reads back (a, c, e)."""
+    rng = np.random.default_rng(36)
+    ref = np.stack([rng.normal(size=50), rng.normal(size=50), rng.uniform(-np.pi, np.pi, 50)], -1)
+    err = np.stack([rng.normal(size=50), rng.normal(size=50), rng.uniform(-3, 3, 50)], -1)
+    c, s = np.cos(ref[:, 2]), np.sin(ref[:, 2])
+    poses = np.stack(
+        [
+            ref[:, 0] + c * err[:, 0] - s * err[:, 1],
+            ref[:, 1] + s * err[:, 0] + c * err[:, 1],
+            ref[:, 2] + err[:, 2] + 2 * np.pi,  # a full turn more: the same heading
+        ],
+        axis=-1,
+    )
+    np.testing.assert_allclose(frame_errors(ref, poses), err, atol=1e-12)
+    assert frame_errors(ref[0], poses).shape == (50, 3)
+    with pytest.raises(ValueError, match="reference"):
+        frame_errors(ref[:, :2], poses)

@@ -19,11 +19,13 @@ It also turns a recording into such pose pairs:
 
 * :func:`interpolate_poses` — ground-truth poses at arbitrary times (linear in
   :math:`x, y` and the unwrapped heading);
-* :func:`dead_reckoning` — integrates recorded :math:`(v, \omega)` commands, held
-  constant between their time stamps, with the exact arc update;
+* :func:`integrate_commands` — dead reckoning: integrates recorded :math:`(v, \omega)`
+  commands, held constant between their time stamps, with the exact arc update;
 * :func:`motion_windows` — cuts a recording into windows of a fixed length: the
   ground-truth poses at both ends, the mean commands over the window (for the velocity
-  model) and the dead-reckoned poses at both ends (the "odometry" of the odometry model).
+  model) and the dead-reckoned poses at both ends (the "odometry" of the odometry model);
+* :func:`frame_errors` — poses seen from reference poses (along-track, cross-track and
+  heading errors).
 """
 
 from __future__ import annotations
@@ -34,15 +36,16 @@ import numpy as np
 from scipy.optimize import minimize
 
 from . import _validation as check
-from .angles import wrap_angle
+from .angles import angle_diff, wrap_angle
 from .motion import motion_model_odometry, motion_model_velocity, velocity_motion
 
 __all__ = [
     "AlphaFit",
     "MotionWindows",
-    "dead_reckoning",
     "fit_odometry_alpha",
     "fit_velocity_alpha",
+    "frame_errors",
+    "integrate_commands",
     "interpolate_poses",
     "motion_windows",
     "odometry_log_likelihood",
@@ -80,8 +83,8 @@ def _within(t_out, t, name: str, span_name: str) -> np.ndarray:
     t_out = check.finite(t_out, name)
     if np.any(t_out < t[0]) or np.any(t_out > t[-1]):
         raise ValueError(
-            f"{name} must lie within {span_name} [{t[0]!r}, {t[-1]!r}], "
-            f"got [{t_out.min()!r}, {t_out.max()!r}]"
+            f"{name} must lie within {span_name} [{float(t[0])!r}, {float(t[-1])!r}], "
+            f"got [{float(t_out.min())!r}, {float(t_out.max())!r}]"
         )
     return t_out
 
@@ -130,7 +133,7 @@ def _arc_steps(x_prev, ds, dtheta):
     return velocity_motion(x_prev, np.stack(np.broadcast_arrays(ds, dtheta), axis=-1), 1.0)
 
 
-def dead_reckoning(t, u, x0, t_out=None):
+def integrate_commands(t, u, x0, t_out=None):
     r"""Return the poses reached by integrating recorded :math:`(v, \omega)` commands.
 
     The command ``u[i]`` is held from ``t[i]`` to ``t[i + 1]`` (zero-order hold), over
@@ -179,6 +182,41 @@ def dead_reckoning(t, u, x0, t_out=None):
     i = np.clip(np.searchsorted(t, t_out, side="right") - 1, 0, t.size - 2)
     held = t_out - t[i]
     return _arc_steps(knots[i], u[i, 0] * held, u[i, 1] * held)
+
+
+def frame_errors(reference, poses):
+    r"""Return ``poses`` expressed in the frames of ``reference`` poses.
+
+    With :math:`(x_r, y_r, \theta_r)` a reference pose (e.g. a predicted end pose) and
+    :math:`(x, y, \theta)` a pose (e.g. the measured one), the along-track error
+    :math:`e_a`, cross-track error :math:`e_c` (positive to the left) and heading error
+    :math:`e_\theta` are
+
+    .. math::
+        e_a = \cos\theta_r (x - x_r) + \sin\theta_r (y - y_r),\quad
+        e_c = -\sin\theta_r (x - x_r) + \cos\theta_r (y - y_r),\quad
+        e_\theta = \mathrm{wrap}(\theta - \theta_r).
+
+    Parameters
+    ----------
+    reference, poses : array_like, shape (..., 3)
+        Reference poses and poses; leading axes broadcast.
+
+    Returns
+    -------
+    errors : ndarray, shape broadcast(...) + (3,)
+        :math:`(e_a, e_c, e_\theta)` in m, m and rad (wrapped to :math:`[-\pi, \pi)`).
+    """
+    reference = check.poses(reference, "reference")
+    poses = check.poses(poses, "poses")
+    xr, yr, thr = np.moveaxis(reference, -1, 0)
+    x, y, th = np.moveaxis(poses, -1, 0)
+    dx, dy = x - xr, y - yr
+    c, s = np.cos(thr), np.sin(thr)
+    return np.stack(
+        np.broadcast_arrays(c * dx + s * dy, c * dy - s * dx, np.asarray(angle_diff(th, thr))),
+        axis=-1,
+    )
 
 
 @dataclass(frozen=True)
@@ -231,7 +269,7 @@ def motion_windows(command_t, commands, truth_t, truth, dt, *, stride=None):
     the ground truth is interpolated (:func:`interpolate_poses`) at both ends; the
     commands, held between their stamps, are averaged over the window exactly (for the
     velocity model, which assumes one constant command per step); and the commands are
-    dead-reckoned once over the whole recording (:func:`dead_reckoning`, starting from
+    dead-reckoned once over the whole recording (:func:`integrate_commands`, starting from
     the true pose at the first command) and read at both ends (the odometry model's
     :math:`(\bar x_{t-1}, \bar x_t)`; only their relative motion enters the model, so
     the drift accumulated before the window does not matter).
@@ -285,7 +323,7 @@ def motion_windows(command_t, commands, truth_t, truth, dt, *, stride=None):
     )
     # Dead reckoning starts from the true pose at the first command (or the first truth).
     x_start = interpolate_poses(truth_t, truth, np.clip(command_t[0], truth_t[0], truth_t[-1]))
-    odo = dead_reckoning(command_t, commands, x_start, np.stack([t0, t1], axis=-1))
+    odo = integrate_commands(command_t, commands, x_start, np.stack([t0, t1], axis=-1))
     return MotionWindows(
         t0=t0,
         dt=dt,
@@ -453,8 +491,9 @@ def _fit(loglik, count, n_pairs, model, noise, density, alpha0, alpha_bounds):
     log_lo, log_hi = np.log(lo), np.log(hi)
     # Every pair must have a finite log density for positive α (else no α explains it:
     # e.g. a command of zero predicts a point mass that a measured jitter never hits).
-    # Positive α all give the same support, so checking at α = 1 checks them all.
-    probe = loglik(np.ones(count))
+    # Positive α all give the same support; the largest allowed α, with the widest
+    # densities, tells the support from a density that merely underflows.
+    probe = loglik(np.full(count, hi))
     bad = np.flatnonzero(~np.isfinite(probe))
     if bad.size:
         raise ValueError(
