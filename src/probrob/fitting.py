@@ -37,7 +37,8 @@ from scipy.optimize import minimize
 
 from . import _validation as check
 from .angles import angle_diff, wrap_angle
-from .motion import motion_model_odometry, motion_model_velocity, velocity_motion
+from .kinematics import arc_update, dead_reckon
+from .motion import motion_model_odometry, motion_model_velocity
 
 __all__ = [
     "AlphaFit",
@@ -128,11 +129,6 @@ def interpolate_poses(t, poses, t_out):
     )
 
 
-def _arc_steps(x_prev, ds, dtheta):
-    """The exact arc update: drive ``ds`` along a circle turning by ``dtheta``."""
-    return velocity_motion(x_prev, np.stack(np.broadcast_arrays(ds, dtheta), axis=-1), 1.0)
-
-
 def integrate_commands(t, u, x0, t_out=None):
     r"""Return the poses reached by integrating recorded :math:`(v, \omega)` commands.
 
@@ -140,9 +136,10 @@ def integrate_commands(t, u, x0, t_out=None):
     which the robot drives the arc of length :math:`\Delta s = v\,\Delta t` turning by
     :math:`\Delta\theta = \omega\,\Delta t` (the exact arc update, "Dış Kinematik" of
     the Turkish deck; the noise-free motion of *Probabilistic Robotics*, Table 5.3).
-    The heading is the cumulative sum of the turns and the positions the cumulative sum
-    of the chords, so the whole run is integrated without a Python loop. The last
-    command ``u[-1]`` is not used (it has no end time).
+    The stamped poses come from :func:`probrob.kinematics.dead_reckon` (cumulative sums,
+    no Python loop), a time between two stamps gets the partial arc of
+    :func:`probrob.kinematics.arc_update`. The last command ``u[-1]`` is not used (it
+    has no end time).
 
     Parameters
     ----------
@@ -167,21 +164,13 @@ def integrate_commands(t, u, x0, t_out=None):
     if x0.shape != (3,):
         raise ValueError(f"x0 must be one pose of shape (3,), got {x0.shape}")
     dt = np.diff(t)
-    turns = u[:-1, 1] * dt
-    heading = x0[2] + np.concatenate([[0.0], np.cumsum(turns)])
-    starts = np.zeros((t.size - 1, 3))
-    starts[:, 2] = heading[:-1]
-    steps = _arc_steps(starts, u[:-1, 0] * dt, turns)
-    knots = np.empty((t.size, 3))
-    knots[0, :2] = x0[:2]
-    knots[1:, :2] = x0[:2] + np.cumsum(steps[:, :2], axis=0)
-    knots[:, 2] = heading
+    knots = dead_reckon(x0, u[:-1, 0] * dt, u[:-1, 1] * dt, method="arc")
     if t_out is None:
         return knots
     t_out = _within(t_out, t, "t_out", "the command times")
     i = np.clip(np.searchsorted(t, t_out, side="right") - 1, 0, t.size - 2)
     held = t_out - t[i]
-    return _arc_steps(knots[i], u[i, 0] * held, u[i, 1] * held)
+    return arc_update(knots[i], u[i, 0] * held, u[i, 1] * held)
 
 
 def frame_errors(reference, poses):
