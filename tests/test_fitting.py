@@ -204,6 +204,20 @@ def test_log_likelihoods_are_the_logs_of_the_motion_densities():
         )
 
 
+def test_fit_survives_far_outliers():
+    """A pose pair metres off the model has a log density of about -1e6, not -inf (log
+    space): the fit still converges, and the outlier widens the fitted noise."""
+    rng = np.random.default_rng(29)
+    alpha = VELOCITY_ALPHA["variance"]
+    x_t, u, x_prev = velocity_data("variance", alpha, 1000, rng)
+    clean = fit_velocity_alpha(x_t, u, x_prev, 1.0)
+    x_t[7, :2] += [0.0, 2.0]  # two metres to the side
+    assert np.isfinite(velocity_log_likelihood(x_t[7], u[7], x_prev[7], 1.0, alpha))
+    fit = fit_velocity_alpha(x_t, u, x_prev, 1.0)
+    assert fit.success and np.isfinite(fit.log_likelihood)
+    assert np.any(fit.alpha > 2 * clean.alpha)
+
+
 def test_alpha0_is_a_starting_point_not_the_answer():
     rng = np.random.default_rng(25)
     alpha = VELOCITY_ALPHA["variance"]

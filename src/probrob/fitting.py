@@ -30,7 +30,6 @@ It also turns a recording into such pose pairs:
 
 from __future__ import annotations
 
-import inspect
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -59,7 +58,6 @@ _FIT_DENSITIES = ("book", "pose")
 _ALPHA_BOUNDS = (1e-12, 1e4)
 # Common scales tried as starting points: the best one on the data starts the search.
 _START_SCALES = 10.0 ** np.arange(-8, 3)
-_LOG_TINY = float(np.log(np.nextafter(0.0, 1.0)))
 
 
 # --------------------------------------------------------------------------- input checks
@@ -161,9 +159,7 @@ def integrate_commands(t, u, x0, t_out=None):
     """
     t = _times(t, "t")
     u = _rows(u, "u", t.size, 2, "v, omega")
-    x0 = check.poses(x0, "x0")
-    if x0.shape != (3,):
-        raise ValueError(f"x0 must be one pose of shape (3,), got {x0.shape}")
+    x0 = check.single_pose(x0, "x0")
     dt = np.diff(t)
     knots = dead_reckon(x0, u[:-1, 0] * dt, u[:-1, 1] * dt, method="arc")
     if t_out is None:
@@ -344,12 +340,8 @@ def motion_windows(command_t, commands, truth_t, truth, dt, *, stride=None):
 
 
 def _log_density(density_fn, *args, **kwargs):
-    # TODO(i11): the motion densities gain log=True (computed in log space, no underflow);
-    # until that lands, the log of the linear density (which underflows far in the tails).
-    if "log" in inspect.signature(density_fn).parameters:
-        return np.asarray(density_fn(*args, log=True, **kwargs), dtype=float)
-    with np.errstate(divide="ignore"):
-        return np.log(np.asarray(density_fn(*args, **kwargs), dtype=float))
+    # log=True: computed in log space, so far tails do not underflow to -inf.
+    return np.asarray(density_fn(*args, log=True, **kwargs), dtype=float)
 
 
 def velocity_log_likelihood(x_t, u_t, x_prev, dt, alpha, *, noise="variance", density="book"):
@@ -501,8 +493,7 @@ def _fit(loglik, count, n_pairs, model, noise, density, alpha0, alpha_bounds):
     log_lo, log_hi = np.log(lo), np.log(hi)
     # Every pair must have a finite log density for positive α (else no α explains it:
     # e.g. a command of zero predicts a point mass that a measured jitter never hits).
-    # Positive α all give the same support; the largest allowed α, with the widest
-    # densities, tells the support from a density that merely underflows.
+    # Positive α all give the same support, so one probe checks them all.
     probe = loglik(np.full(count, hi))
     bad = np.flatnonzero(~np.isfinite(probe))
     if bad.size:
@@ -513,9 +504,7 @@ def _fit(loglik, count, n_pairs, model, noise, density, alpha0, alpha_bounds):
         )
 
     def objective(beta):
-        # A density below the smallest float64 underflows to 0; its log is floored there
-        # so that trial steps far from the optimum stay finite.
-        return -float(np.sum(np.maximum(loglik(np.exp(beta)), _LOG_TINY))) / n_pairs
+        return -float(np.sum(loglik(np.exp(beta)))) / n_pairs
 
     if alpha0 is None:
         scores = [objective(np.full(count, np.log(c))) for c in _START_SCALES]
