@@ -280,3 +280,25 @@ def alpha_player(
     # Font Awesome itself, and a page that works offline must not reach out.
     html = _CDN_STYLESHEET.sub("", html)
     return HTML(html)
+
+
+# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live) ----------
+from ._live import (  # noqa: E402
+    Choice,
+    LiveWidget,
+    Slider,
+    live_widget,
+    odometry_model_live,
+    standard_draws,
+    velocity_model_live,
+)
+
+__all__ += [
+    "Choice",
+    "LiveWidget",
+    "Slider",
+    "live_widget",
+    "odometry_model_live",
+    "standard_draws",
+    "velocity_model_live",
+]

@@ -1,0 +1,85 @@
+// Odometry motion model kernel: Table 5.6 (sampler) and Table 5.5 (density), written as
+// probrob.motion writes them (wrapped rotations, variances at the hypothesis for "book" and at
+// the odometry for "pose"/"xy"), held equal to it by tests/test_live_widgets.py.
+// Parameters: rot1 [rad], trans [m], rot2 [rad] (the odometry's motion, from an odometry frame
+// at the origin), theta (the robot's start heading) [rad], a1..a4, noise, distribution, density.
+function odometryDeltas(x, y, th, xn, yn, thn) {
+  // probrob.motion._deltas
+  const dx = xn - x;
+  const dy = yn - y;
+  const trans = Math.hypot(dx, dy);
+  const rot1 = trans > 0 ? angleDiff(Math.atan2(dy, dx), th) : 0;
+  const rot2 = angleDiff(thn - th, rot1);
+  return [rot1, trans, rot2];
+}
+
+kernels.odometry = {
+  deltas(p) {
+    // u_t = (origin, apply_odometry_deltas(origin, rot1, trans, rot2)), read back as Table 5.5
+    // lines 2-4 do (so a rotation beyond ±π is wrapped and trans = 0 moves the turn to rot2)
+    const heading = 0 + p.rot1;
+    return odometryDeltas(
+      0, 0, 0, 0 + p.trans * Math.cos(heading), 0 + p.trans * Math.sin(heading), heading + p.rot2,
+    );
+  },
+  variances(p, r1, t, r2) {
+    return [
+      noiseVariance(p.noise, [[p.a1, r1], [p.a2, t]]),
+      noiseVariance(p.noise, [[p.a3, t], [p.a4, r1], [p.a4, r2]]),
+      noiseVariance(p.noise, [[p.a1, r2], [p.a2, t]]),
+    ];
+  },
+  start(p) {
+    return [0, 0, p.theta];
+  },
+  end(p) {
+    const [r1, t, r2] = this.deltas(p);
+    const heading = p.theta + r1;
+    return [t * Math.cos(heading), t * Math.sin(heading), heading + r2];
+  },
+  sample(p, z, n, out) {
+    const [r1, t, r2] = this.deltas(p);
+    const [var1, varT, var2] = this.variances(p, r1, t, r2);
+    const b1 = Math.sqrt(var1);
+    const bt = Math.sqrt(varT);
+    const b2 = Math.sqrt(var2);
+    for (let i = 0; i < n; i++) {
+      const r1Hat = r1 - b1 * z[i];
+      const tHat = t - bt * z[n + i];
+      const r2Hat = r2 - b2 * z[2 * n + i];
+      const heading = p.theta + r1Hat;
+      out[3 * i] = tHat * Math.cos(heading);
+      out[3 * i + 1] = tHat * Math.sin(heading);
+      out[3 * i + 2] = heading + r2Hat;
+    }
+  },
+  density(p, xs, ys, thetaHyp, out) {
+    const [r1, t, r2] = this.deltas(p);
+    const fixed = this.variances(p, r1, t, r2);
+    const th = p.theta;
+    const thn = p.density === "xy" ? th : thetaHyp;
+    const nx = xs.length;
+    for (let i = 0; i < ys.length; i++) {
+      for (let j = 0; j < nx; j++) {
+        const [r1Hat, tHat, r2Hat] = odometryDeltas(0, 0, th, xs[j], ys[i], thn);
+        const [var1, varT, var2] =
+          p.density === "book" ? this.variances(p, r1Hat, tHat, r2Hat) : fixed;
+        let q = p.prob(angleDiff(r1, r1Hat), var1) * p.prob(t - tHat, varT);
+        if (p.density !== "xy") q = q * p.prob(angleDiff(r2, r2Hat), var2);
+        if (p.density !== "book") q = divideByJacobian(q, tHat);
+        out[i * nx + j] = q;
+      }
+    }
+  },
+  title(p) {
+    return (
+      "odometry model: δ = (" + p.rot1.toFixed(2) + " rad, " + p.trans.toFixed(2) + " m, " +
+      p.rot2.toFixed(2) + " rad)"
+    );
+  },
+  densityLabel(p) {
+    if (p.density === "xy") return "density over (x′, y′) [1/m²]";
+    if (p.density === "pose") return "density at θ′ of the blue arrow [1/(m² rad)]";
+    return "Table 5.5 value at θ′ of the blue arrow";
+  },
+};
