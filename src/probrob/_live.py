@@ -34,8 +34,9 @@ itself in ``window.probrobLive.widgets`` (page order) as a handle with
   hypothesis heading of the ``"pose"`` and ``"book"`` densities) and the milliseconds of the
   last update (``compute``: particles and grid; ``draw``; ``total``);
 * ``draws(name)`` — the embedded draws of one distribution, base64 float64 ``(3, n)``;
-* ``bench(count)`` — time ``count`` full updates with moving parameters; returns
-  ``{count, median, max}`` in milliseconds.
+* ``bench(count)`` — time ``count`` full updates (after 10 untimed ones), each with one
+  parameter moved; returns ``{count, compute, draw, total}``, each ``{median, p90, max}`` in
+  milliseconds.
 """
 
 from __future__ import annotations

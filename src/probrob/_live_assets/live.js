@@ -50,15 +50,16 @@ const PROB = {
   },
 };
 
-// The noise variance of one term, as probrob.motion._noise_variance: terms = [[alpha, m], ...].
-function noiseVariance(noise, terms) {
+// The variance of one noise term, as probrob.motion._noise_variance: a*m² + b*n² (+ c*o²) in the
+// "variance" form, (a|m| + b|n| (+ c|o|))² in the "std" form. Plain arguments, no arrays: it
+// runs once per grid point in the odometry model's book density.
+function noiseVariance(noise, a, m, b, n, c, o) {
   if (noise === "variance") {
-    let v = terms[0][0] * (terms[0][1] * terms[0][1]);
-    for (let k = 1; k < terms.length; k++) v = v + terms[k][0] * (terms[k][1] * terms[k][1]);
-    return v;
+    const v = a * (m * m) + b * (n * n);
+    return c === undefined ? v : v + c * (o * o);
   }
-  let s = terms[0][0] * Math.abs(terms[0][1]);
-  for (let k = 1; k < terms.length; k++) s = s + terms[k][0] * Math.abs(terms[k][1]);
+  let s = a * Math.abs(m) + b * Math.abs(n);
+  if (c !== undefined) s = s + c * Math.abs(o);
   return s * s;
 }
 
@@ -461,10 +462,12 @@ function mountLiveWidget(root, config, kernel) {
       const names = config.sliders.map((s) => s.name);
       const saved = Object.assign({}, values);
       const times = { compute: [], draw: [], total: [] };
-      for (let k = 0; k < count; k++) {
+      const warmup = 10; // untimed: let the JIT compile the kernel first
+      for (let k = 0; k < warmup + count; k++) {
         const s = config.sliders[k % names.length];
         values[s.name] = s.min + ((k * 0.618034) % 1) * (s.max - s.min);
         update(false);
+        if (k < warmup) continue;
         for (const key of Object.keys(times)) times[key].push(timings[key]);
       }
       Object.assign(values, saved);
@@ -472,7 +475,8 @@ function mountLiveWidget(root, config, kernel) {
       const out = { count };
       for (const [key, t] of Object.entries(times)) {
         t.sort((a, b) => a - b);
-        out[key] = { median: t[Math.floor(count / 2)], max: t[count - 1] };
+        const at = (q) => t[Math.min(count - 1, Math.floor(q * count))];
+        out[key] = { median: at(0.5), p90: at(0.9), max: t[count - 1] };
       }
       return out;
     },

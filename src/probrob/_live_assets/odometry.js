@@ -3,14 +3,17 @@
 // the odometry for "pose"/"xy"), held equal to it by tests/test_live_widgets.py.
 // Parameters: rot1 [rad], trans [m], rot2 [rad] (the odometry's motion, from an odometry frame
 // at the origin), theta (the robot's start heading) [rad], a1..a4, noise, distribution, density.
-function odometryDeltas(x, y, th, xn, yn, thn) {
-  // probrob.motion._deltas
+
+// probrob.motion._deltas: (rot1, trans, rot2) from (x, y, th) to (xn, yn, thn), into out[0..2]
+function odometryDeltas(out, x, y, th, xn, yn, thn) {
   const dx = xn - x;
   const dy = yn - y;
   const trans = Math.hypot(dx, dy);
   const rot1 = trans > 0 ? angleDiff(Math.atan2(dy, dx), th) : 0;
-  const rot2 = angleDiff(thn - th, rot1);
-  return [rot1, trans, rot2];
+  out[0] = rot1;
+  out[1] = trans;
+  out[2] = angleDiff(thn - th, rot1);
+  return out;
 }
 
 kernels.odometry = {
@@ -18,17 +21,14 @@ kernels.odometry = {
     // u_t = (origin, apply_odometry_deltas(origin, rot1, trans, rot2)), read back as Table 5.5
     // lines 2-4 do (so a rotation beyond ±π is wrapped and trans = 0 moves the turn to rot2)
     const heading = 0 + p.rot1;
-    return odometryDeltas(
-      0, 0, 0, 0 + p.trans * Math.cos(heading), 0 + p.trans * Math.sin(heading), heading + p.rot2,
-    );
+    const xn = 0 + p.trans * Math.cos(heading);
+    const yn = 0 + p.trans * Math.sin(heading);
+    return odometryDeltas(new Float64Array(3), 0, 0, 0, xn, yn, heading + p.rot2);
   },
-  variances(p, r1, t, r2) {
-    return [
-      noiseVariance(p.noise, [[p.a1, r1], [p.a2, t]]),
-      noiseVariance(p.noise, [[p.a3, t], [p.a4, r1], [p.a4, r2]]),
-      noiseVariance(p.noise, [[p.a1, r2], [p.a2, t]]),
-    ];
-  },
+  // the variances of the three noise terms at the motion (r1, t, r2), Table 5.5 / 5.6
+  var1: (p, r1, t) => noiseVariance(p.noise, p.a1, r1, p.a2, t),
+  varT: (p, r1, t, r2) => noiseVariance(p.noise, p.a3, t, p.a4, r1, p.a4, r2),
+  var2: (p, t, r2) => noiseVariance(p.noise, p.a1, r2, p.a2, t),
   start(p) {
     return [0, 0, p.theta];
   },
@@ -39,10 +39,9 @@ kernels.odometry = {
   },
   sample(p, z, n, out) {
     const [r1, t, r2] = this.deltas(p);
-    const [var1, varT, var2] = this.variances(p, r1, t, r2);
-    const b1 = Math.sqrt(var1);
-    const bt = Math.sqrt(varT);
-    const b2 = Math.sqrt(var2);
+    const b1 = Math.sqrt(this.var1(p, r1, t));
+    const bt = Math.sqrt(this.varT(p, r1, t, r2));
+    const b2 = Math.sqrt(this.var2(p, t, r2));
     for (let i = 0; i < n; i++) {
       const r1Hat = r1 - b1 * z[i];
       const tHat = t - bt * z[n + i];
@@ -55,18 +54,26 @@ kernels.odometry = {
   },
   density(p, xs, ys, thetaHyp, out) {
     const [r1, t, r2] = this.deltas(p);
-    const fixed = this.variances(p, r1, t, r2);
+    const book = p.density === "book";
+    let var1 = this.var1(p, r1, t);
+    let varT = this.varT(p, r1, t, r2);
+    let var2 = this.var2(p, t, r2);
     const th = p.theta;
     const thn = p.density === "xy" ? th : thetaHyp;
+    const hat = new Float64Array(3);
     const nx = xs.length;
     for (let i = 0; i < ys.length; i++) {
       for (let j = 0; j < nx; j++) {
-        const [r1Hat, tHat, r2Hat] = odometryDeltas(0, 0, th, xs[j], ys[i], thn);
-        const [var1, varT, var2] =
-          p.density === "book" ? this.variances(p, r1Hat, tHat, r2Hat) : fixed;
-        let q = p.prob(angleDiff(r1, r1Hat), var1) * p.prob(t - tHat, varT);
-        if (p.density !== "xy") q = q * p.prob(angleDiff(r2, r2Hat), var2);
-        if (p.density !== "book") q = divideByJacobian(q, tHat);
+        odometryDeltas(hat, 0, 0, th, xs[j], ys[i], thn);
+        if (book) {
+          // Table 5.5 as printed: the variances at the hypothesis' motion
+          var1 = this.var1(p, hat[0], hat[1]);
+          varT = this.varT(p, hat[0], hat[1], hat[2]);
+          var2 = this.var2(p, hat[1], hat[2]);
+        }
+        let q = p.prob(angleDiff(r1, hat[0]), var1) * p.prob(t - hat[1], varT);
+        if (p.density !== "xy") q = q * p.prob(angleDiff(r2, hat[2]), var2);
+        if (!book) q = divideByJacobian(q, hat[1]);
         out[i * nx + j] = q;
       }
     }

@@ -6,9 +6,9 @@
 kernels.velocity = {
   variances(p) {
     return [
-      noiseVariance(p.noise, [[p.a1, p.v], [p.a2, p.w]]),
-      noiseVariance(p.noise, [[p.a3, p.v], [p.a4, p.w]]),
-      noiseVariance(p.noise, [[p.a5, p.v], [p.a6, p.w]]),
+      noiseVariance(p.noise, p.a1, p.v, p.a2, p.w),
+      noiseVariance(p.noise, p.a3, p.v, p.a4, p.w),
+      noiseVariance(p.noise, p.a5, p.v, p.a6, p.w),
     ];
   },
   start(p) {
