@@ -4,6 +4,31 @@ Plotting is kept apart from the maths: these functions call the models of
 :mod:`probrob.motion` and :mod:`probrob.distributions` and draw what they return.
 They never show a figure themselves (the caller or Jupyter does); matplotlib is imported
 only when a figure is drawn.
+
+**One figure style for the whole book.** Every chapter calls :func:`use_book_style`
+once, right after its imports::
+
+    import matplotlib.pyplot as plt
+    from probrob.plotting import use_book_style
+
+    use_book_style()
+
+It sizes figures for the book's text column (:data:`BOOK_FIGURE_WIDTH` inches at
+:data:`BOOK_DPI` dpi, at most :data:`BOOK_COLUMN_PX` px wide, so the browser never
+shrinks them) and sets font sizes so that tick labels are 9 pt = 12.5 px on the page
+(at least :data:`BOOK_MIN_FONT_PX`). Keep chapter ``figsize`` widths at or below
+:data:`BOOK_FIGURE_WIDTH`; for several panels use more rows rather than a wider figure.
+Layout is automatic (``figure.autolayout``). Conventions for every figure:
+
+* axes labelled with units (``"$x$ [m]"``);
+* every density image has a colorbar naming the quantity and its units
+  (:data:`DENSITY_XY_LABEL` for densities over the plane);
+* legends placed where they cover no data (outside the axes or in an empty corner);
+* the frames of one player share their axes (:func:`probrob.widgets.parameter_player`).
+
+Diagrams: :func:`plot_velocity_geometry` (Table 5.1's circle, :math:`r^*`,
+:math:`\Delta\theta`, :math:`\hat\gamma`) and :func:`plot_odometry_deltas`
+(:math:`\delta_{rot1}, \delta_{trans}, \delta_{rot2}`).
 """
 
 from __future__ import annotations
@@ -13,6 +38,7 @@ from collections.abc import Callable
 import numpy as np
 
 from . import _validation as check
+from .angles import wrap_angle
 from .distributions import (
     prob_normal_distribution,
     prob_triangular_distribution,
@@ -30,14 +56,23 @@ from .motion import (
 )
 
 __all__ = [
+    "BOOK_COLUMN_PX",
+    "BOOK_DPI",
+    "BOOK_FIGURE_WIDTH",
+    "BOOK_MIN_FONT_PX",
+    "DENSITY_XY_LABEL",
     "DISTRIBUTIONS",
+    "book_style",
     "motion_extent",
     "motion_samples",
     "plot_density_xy",
     "plot_distribution",
     "plot_motion_model",
+    "plot_odometry_deltas",
     "plot_pose",
     "plot_samples",
+    "plot_velocity_geometry",
+    "use_book_style",
 ]
 
 
@@ -54,6 +89,9 @@ DISTRIBUTIONS: dict[str, tuple[Callable, Callable]] = {
 
 _MODELS = ("velocity", "odometry")
 
+#: Colorbar label of the densities over the plane (``density="xy"``).
+DENSITY_XY_LABEL = "density $p(x', y')$ [1/m²]"
+
 
 def _axes(ax):
     if ax is None:
@@ -61,6 +99,73 @@ def _axes(ax):
 
         _, ax = plt.subplots()
     return ax
+
+
+# --------------------------------------------------------------------------- book style
+
+#: Width of the book's text column in CSS pixels at a 1280-px window (Jupyter Book 1's
+#: sphinx-book-theme; measured by ``.ci/browser_check.py``), and the figure resolution
+#: that maps one inch of figure to ``BOOK_DPI`` pixels of page.
+BOOK_COLUMN_PX = 690
+BOOK_DPI = 100
+#: Default figure width in inches: a figure this wide is shown at its own size, unscaled.
+BOOK_FIGURE_WIDTH = 6.8
+#: Smallest text in a figure, in CSS pixels (tick labels), when shown unscaled.
+BOOK_MIN_FONT_PX = 9
+
+_BOOK_RC = {
+    "figure.dpi": BOOK_DPI,
+    "savefig.dpi": "figure",
+    "figure.figsize": (BOOK_FIGURE_WIDTH, 4.2),
+    # tight_layout at every draw: room for labels and colorbars without calling it (a
+    # chapter may still call fig.tight_layout(), which then changes nothing and warns not).
+    "figure.autolayout": True,
+    "font.size": 10,
+    "axes.titlesize": 10,
+    "axes.labelsize": 10,
+    "xtick.labelsize": 9,
+    "ytick.labelsize": 9,
+    "legend.fontsize": 9,
+    "legend.framealpha": 0.9,
+    "image.cmap": "Greys",
+    "animation.embed_limit": 40.0,  # MB; the players embed every frame as a PNG
+}
+
+
+def book_style() -> dict:
+    """Return the book's matplotlib settings (a dict for ``plt.rcParams.update``).
+
+    See :func:`use_book_style`.
+    """
+    return dict(_BOOK_RC)
+
+
+def use_book_style() -> None:
+    """Set the book's figure style: figures that fit its column, with readable text.
+
+    Every chapter calls this once, after its imports. It sets ``figure.dpi`` to
+    :data:`BOOK_DPI` and the default width to :data:`BOOK_FIGURE_WIDTH` inches, so a
+    figure is at most :data:`BOOK_COLUMN_PX` pixels wide and the browser shows it at
+    its own size (a wider image is shrunk into the column, and its text with it); text
+    sizes in points give tick labels of 9 pt = 12.5 px, title and axis labels 10 pt.
+    ``figure.autolayout`` makes every figure lay itself out tightly (no
+    ``fig.tight_layout()`` needed). Chapters should keep ``figsize`` widths at or
+    below :data:`BOOK_FIGURE_WIDTH`; the browser check fails on any figure that the
+    page shrinks.
+    """
+    import matplotlib.pyplot as plt  # first, so a backend's own defaults do not win
+
+    plt.rcParams.update(_BOOK_RC)
+
+
+def _colorbar(mappable, ax, label, orientation="vertical"):
+    """A colorbar beside ``ax`` (vertical) or under it (horizontal), labelled ``label``."""
+    kw = {"fraction": 0.046, "pad": 0.04}
+    if orientation == "horizontal":
+        kw = {"fraction": 0.05, "pad": 0.18, "aspect": 30}
+    bar = ax.figure.colorbar(mappable, ax=ax, orientation=orientation, label=label, **kw)
+    bar.ax.tick_params(labelsize="small")
+    return bar
 
 
 def plot_distribution(prob, b2, *, samples=None, ax=None, bins=60, label=None, color=None):
@@ -151,11 +256,25 @@ def plot_samples(
     return ax
 
 
-def plot_density_xy(xs, ys, p, ax=None, *, cmap="Greys", vmax=None, colorbar=False):
+def plot_density_xy(
+    xs,
+    ys,
+    p,
+    ax=None,
+    *,
+    cmap="Greys",
+    vmax=None,
+    colorbar=False,
+    label=DENSITY_XY_LABEL,
+    orientation="vertical",
+):
     """Draw a density tabulated on a grid, ``p[i, j]`` at ``(xs[j], ys[i])``, in 1/m².
 
     The colour scale is linear from 0 to ``vmax`` (default: the 99.5th percentile of
     the finite values, so that an integrable singularity does not wash out the plot).
+    With ``colorbar=True`` a colorbar labelled ``label`` (the quantity and its units)
+    is drawn beside the axes (``orientation="vertical"``) or under them
+    (``"horizontal"``).
 
     Returns
     -------
@@ -168,7 +287,7 @@ def plot_density_xy(xs, ys, p, ax=None, *, cmap="Greys", vmax=None, colorbar=Fal
         vmax = np.percentile(finite, 99.5) if finite.size and finite.max() > 0 else 1.0
     mesh = ax.pcolormesh(xs, ys, np.nan_to_num(p, posinf=vmax), cmap=cmap, vmin=0, vmax=vmax)
     if colorbar:
-        ax.figure.colorbar(mesh, ax=ax, label="density [1/m²]")
+        _colorbar(mesh, ax, label, orientation)
     ax.set_aspect("equal")
     ax.set_xlabel("$x$ [m]")
     ax.set_ylabel("$y$ [m]")
@@ -261,6 +380,7 @@ def plot_motion_model(
     grid=160,
     extent=None,
     show_density=True,
+    colorbar=True,
     rng=0,
     ax=None,
     title=None,
@@ -300,6 +420,9 @@ def plot_motion_model(
         Plot box in metres; default around the samples and the two poses.
     show_density : bool
         Draw the density image.
+    colorbar : bool or {"vertical", "horizontal"}
+        Give the density image a colorbar (quantity and units, :data:`DENSITY_XY_LABEL`)
+        beside the axes (``True`` or ``"vertical"``) or under them (``"horizontal"``).
     rng : None, int or numpy.random.Generator
         Seed of the samples.
     ax : matplotlib.axes.Axes, optional
@@ -321,7 +444,10 @@ def plot_motion_model(
     if show_density:
         xs, ys = np.linspace(x0, x1, grid), np.linspace(y0, y1, grid)
         xy = np.stack(np.meshgrid(xs, ys), axis=-1)
-        plot_density_xy(xs, ys, density(xy), ax=ax)
+        orientation = colorbar if isinstance(colorbar, str) else "vertical"
+        plot_density_xy(
+            xs, ys, density(xy), ax=ax, colorbar=bool(colorbar), orientation=orientation
+        )
     size = 0.08 * (x1 - x0)
     if n_samples:
         plot_samples(samples, ax=ax, n_headings=min(n_headings, n_samples), length=size / 2)
@@ -334,3 +460,283 @@ def plot_motion_model(
     if title:
         ax.set_title(title)
     return ax
+
+
+# --------------------------------------------------------------------------- diagrams
+
+
+def _angle_arc(ax, centre, radius, start, sweep, *, color, label=None, lw=1.4, text_pad=1.35):
+    """Draw an arc with an arrowhead from angle ``start`` through ``sweep`` (rad) about
+    ``centre``; put ``label`` just outside its middle. Returns the label's Text (or None)."""
+    cx, cy = centre
+    t = start + np.linspace(0.0, sweep, 60)
+    xs, ys = cx + radius * np.cos(t), cy + radius * np.sin(t)
+    ax.plot(xs, ys, color=color, lw=lw)
+    if abs(sweep) > 1e-3:
+        ax.annotate(
+            "",
+            xy=(xs[-1], ys[-1]),
+            xytext=(xs[-4], ys[-4]),
+            arrowprops={"arrowstyle": "-|>", "color": color, "lw": lw, "mutation_scale": 10},
+        )
+    if label is None:
+        return None
+    mid = start + sweep / 2
+    return ax.text(
+        cx + text_pad * radius * np.cos(mid),
+        cy + text_pad * radius * np.sin(mid),
+        label,
+        color=color,
+        ha="left" if np.cos(mid) > 0.3 else "right" if np.cos(mid) < -0.3 else "center",
+        va="bottom" if np.sin(mid) > 0.3 else "top" if np.sin(mid) < -0.3 else "center",
+    )
+
+
+def _upright_degrees(angle):
+    """Text rotation in degrees, in (-90, 90], for a direction ``angle`` in rad."""
+    deg = float(np.degrees(wrap_angle(angle)))
+    return deg - 180 if deg > 90 else deg + 180 if deg <= -90 else deg
+
+
+def _finish_diagram(ax, points, pad=0.25):
+    pts = np.asarray(points, dtype=float)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre, half = (lo + hi) / 2, float(np.max(hi - lo)) / 2 + pad
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_aspect("equal")
+    ax.set_xlabel("$x$ [m]")
+    ax.set_ylabel("$y$ [m]")
+    return ax
+
+
+def plot_velocity_geometry(x_prev, x_t, dt=1.0, ax=None, *, arrow=None):
+    r"""Draw the geometry of Table 5.1: the circle that takes ``x_prev`` towards ``x_t``.
+
+    *Probabilistic Robotics*, Table 5.1, lines 2–8. Shown: the start pose
+    :math:`x_{t-1} = (x, y, \theta)` (black) and the hypothesis
+    :math:`x_t = (x', y', \theta')` (blue); the chord between the two positions and its
+    perpendicular bisector, on which the table's :math:`\mu` moves the centre
+    :math:`(x^*, y^*)` from the chord's midpoint; the circle tangent to the heading
+    :math:`\theta` through both positions, with its radius :math:`r^*` and the turn
+    :math:`\Delta\theta` seen from the centre; the heading
+    :math:`\theta + \Delta\theta` at the end of the arc (dashed) and the final turn
+    :math:`\hat\gamma\Delta t` from it to :math:`\theta'`. The numbers are those of
+    :func:`~probrob.motion.motion_model_velocity` (signed radius, wrapped angles); on a
+    straight line (:math:`\mu` infinite) no centre is drawn.
+
+    Parameters
+    ----------
+    x_prev, x_t : array_like, shape (3,)
+        Start pose and hypothesised end pose.
+    dt : float
+        Time step in s (for the printed :math:`\hat v, \hat\omega`).
+    ax : matplotlib.axes.Axes, optional
+    arrow : float, optional
+        Length of the heading arrows in m; default a quarter of the distance moved.
+
+    Returns
+    -------
+    ax : matplotlib.axes.Axes
+    """
+    from .motion import _invert_velocity
+
+    ax = _axes(ax)
+    x_prev, x_t = check.poses(x_prev, "x_prev"), check.poses(x_t, "x_t")
+    if x_prev.shape != (3,) or x_t.shape != (3,):
+        raise ValueError("x_prev and x_t must each be one pose of shape (3,)")
+    dt = check.positive_scalar(dt, "dt")
+    x, y, th = x_prev
+    xp, yp, _ = x_t
+    v_hat, w_hat, g_hat, half = (float(q) for q in _invert_velocity(x_t, x_prev, dt))
+    turn = 2 * half
+    dist = float(np.hypot(xp - x, yp - y))
+    arrow = (0.25 * dist if dist > 0 else 0.3) if arrow is None else float(arrow)
+    points = [x_prev[:2], x_t[:2]]
+    for px, py, heading in ((x, y, th), (xp, yp, x_t[2])):
+        points.append([px + arrow * np.cos(heading), py + arrow * np.sin(heading)])
+    ax.plot([x, xp], [y, yp], ":", color="0.45", lw=1)  # the chord
+    mid = np.array([(x + xp) / 2, (y + yp) / 2])
+    if abs(turn) > 1e-9:
+        r = v_hat / w_hat  # signed: > 0 turns left
+        centre = np.array([x - r * np.sin(th), y + r * np.cos(th)])
+        rad = abs(r)
+        points.append(centre)
+        full = np.linspace(0, 2 * np.pi, 200)
+        ax.plot(
+            *(centre[:, None] + rad * np.stack([np.cos(full), np.sin(full)])),
+            "--",
+            color="0.8",
+            lw=1,
+        )
+        to_start = np.arctan2(y - centre[1], x - centre[0])
+        t = to_start + np.linspace(0.0, turn, 100)
+        arc = np.stack([centre[0] + rad * np.cos(t), centre[1] + rad * np.sin(t)], axis=-1)
+        points.extend(arc[::10])
+        ax.plot(*arc.T, color="tab:blue", lw=2.2)
+        ax.plot(*centre, "+", color="tab:green", ms=10, mew=2)
+        ax.annotate(
+            "$(x^*, y^*)$",
+            centre,
+            xytext=(-8, 8),
+            textcoords="offset points",
+            ha="right",
+            color="tab:green",
+        )
+        ax.plot([mid[0], centre[0]], [mid[1], centre[1]], ":", color="tab:green", lw=1.2)
+        ax.annotate(
+            "$\\mu$ (line 2)",
+            mid + 0.35 * (centre - mid),
+            xytext=(6, -4),
+            textcoords="offset points",
+            color="tab:green",
+        )
+        for px, py in ((x, y), (xp, yp)):
+            ax.plot([centre[0], px], [centre[1], py], color="tab:orange", lw=1.2)
+        ax.text(
+            *(centre + 0.62 * np.array([xp, yp] - centre)),
+            f"$r^* = {rad:.2f}$ m",
+            color="tab:orange",
+            rotation=_upright_degrees(np.arctan2(yp - centre[1], xp - centre[0])),
+            rotation_mode="anchor",
+            ha="center",
+            va="bottom",
+        )
+        _angle_arc(
+            ax,
+            centre,
+            0.22 * rad,
+            to_start,
+            turn,
+            color="tab:orange",
+            label=f"$\\Delta\\theta = {turn:.2f}$ rad",
+            text_pad=1.25,
+        )
+    else:
+        ax.plot([x, xp], [y, yp], color="tab:blue", lw=2.2)
+        ax.annotate(
+            "straight: $\\mu = \\pm\\infty$",
+            mid,
+            xytext=(0, 8),
+            textcoords="offset points",
+            ha="center",
+            color="tab:green",
+        )
+    # the heading at the end of the arc, and the final turn γ̂Δt to θ'
+    arc_heading = th + turn
+    ax.plot(
+        [xp, xp + 1.3 * arrow * np.cos(arc_heading)],
+        [yp, yp + 1.3 * arrow * np.sin(arc_heading)],
+        "--",
+        color="tab:blue",
+        lw=1,
+    )
+    text = _angle_arc(
+        ax,
+        (xp, yp),
+        0.9 * arrow,
+        arc_heading,
+        g_hat * dt,
+        color="tab:red",
+        label=f"$\\hat\\gamma\\Delta t = {g_hat * dt:.2f}$ rad",
+        text_pad=1.2,
+    )
+    points.append(text.get_position())
+    plot_pose(x_prev, ax=ax, length=arrow)
+    plot_pose(x_t, ax=ax, length=arrow, color="tab:blue")
+    ax.annotate("$x_{t-1}$", (x, y), xytext=(-6, -14), textcoords="offset points", ha="right")
+    ax.annotate(
+        "$x_t$", (xp, yp), xytext=(-8, 6), textcoords="offset points", ha="right", color="tab:blue"
+    )
+    ax.set_title(
+        f"$\\hat v = {v_hat:.2f}$ m/s, $\\hat\\omega = {w_hat:.2f}$ rad/s, "
+        f"$\\hat\\gamma = {g_hat:.2f}$ rad/s ($\\Delta t = {dt:g}$ s)"
+    )
+    return _finish_diagram(ax, points, pad=0.2 * max(dist, 0.5))
+
+
+def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None):
+    r"""Draw :math:`\delta_{rot1}, \delta_{trans}, \delta_{rot2}` between two poses.
+
+    *Probabilistic Robotics*, Table 5.5, lines 2–4 (Fig. 5.7's decomposition): turn by
+    :math:`\delta_{rot1}` from the heading :math:`\bar\theta` towards the end position,
+    drive :math:`\delta_{trans}` in a straight line, turn by :math:`\delta_{rot2}` to
+    :math:`\bar\theta'`. The numbers are :func:`~probrob.motion.odometry_deltas` (wrapped).
+
+    Parameters
+    ----------
+    xbar_prev, xbar_t : array_like, shape (3,)
+        The two poses (e.g. odometry readings :math:`\bar x_{t-1}, \bar x_t`).
+    ax : matplotlib.axes.Axes, optional
+    arrow : float, optional
+        Length of the heading arrows in m; default a quarter of :math:`\delta_{trans}`.
+
+    Returns
+    -------
+    ax : matplotlib.axes.Axes
+    """
+    ax = _axes(ax)
+    a, b = check.poses(xbar_prev, "xbar_prev"), check.poses(xbar_t, "xbar_t")
+    if a.shape != (3,) or b.shape != (3,):
+        raise ValueError("xbar_prev and xbar_t must each be one pose of shape (3,)")
+    rot1, trans, rot2 = (float(d) for d in odometry_deltas(a, b))
+    arrow = (0.25 * trans if trans > 0 else 0.3) if arrow is None else float(arrow)
+    travel = a[2] + rot1
+    ax.plot(
+        [a[0], a[0] + 1.6 * arrow * np.cos(a[2])],
+        [a[1], a[1] + 1.6 * arrow * np.sin(a[2])],
+        "--",
+        color="0.4",
+        lw=1,
+    )
+    ax.plot([a[0], b[0]], [a[1], b[1]], color="tab:orange", lw=2)
+    mid = (a[:2] + b[:2]) / 2
+    normal = np.array([-np.sin(travel), np.cos(travel)])
+    ax.annotate(
+        f"$\\delta_{{trans}} = {trans:.2f}$ m",
+        mid + 0.1 * (b[:2] - a[:2]),
+        xytext=tuple(10 * normal),
+        textcoords="offset points",
+        ha="center",
+        va="center",
+        color="tab:orange",
+        rotation=_upright_degrees(travel),
+        rotation_mode="anchor",
+    )
+    ax.plot(
+        [b[0], b[0] + 1.6 * arrow * np.cos(travel)],
+        [b[1], b[1] + 1.6 * arrow * np.sin(travel)],
+        "--",
+        color="0.4",
+        lw=1,
+    )
+    texts = [
+        _angle_arc(
+            ax,
+            a[:2],
+            1.4 * arrow,
+            a[2],
+            rot1,
+            color="tab:green",
+            label=f"$\\delta_{{rot1}} = {rot1:.2f}$ rad",
+            text_pad=1.15,
+        ),
+        _angle_arc(
+            ax,
+            b[:2],
+            1.4 * arrow,
+            travel,
+            rot2,
+            color="tab:red",
+            label=f"$\\delta_{{rot2}} = {rot2:.2f}$ rad",
+            text_pad=1.15,
+        ),
+    ]
+    plot_pose(a, ax=ax, length=arrow)
+    plot_pose(b, ax=ax, length=arrow, color="tab:blue")
+    ax.annotate("$\\bar x_{t-1}$", a[:2], xytext=(-6, -14), textcoords="offset points", ha="right")
+    ax.annotate(
+        "$\\bar x_t$", b[:2], xytext=(6, -14), textcoords="offset points", color="tab:blue"
+    )
+    points = [a[:2], b[:2]] + [t.get_position() for t in texts]
+    return _finish_diagram(ax, points, pad=1.2 * arrow)

@@ -4,9 +4,21 @@ r"""Sliders for Jupyter and kernel-free players for the static book.
   ``ipywidgets`` sliders for every :math:`\alpha`, the motion, the noise distribution
   and the noise form. They need a running kernel: in the HTML book they do nothing,
   so chapters hide their output there and show players instead.
-* :func:`alpha_player` — a ``matplotlib.animation.FuncAnimation`` rendered with
-  ``to_jshtml()``: a self-contained HTML/JavaScript player (frames are embedded PNGs)
-  that sweeps one :math:`\alpha` and works offline, without a kernel.
+* :func:`parameter_player` — the book's one kernel-free player: a
+  ``matplotlib.animation.FuncAnimation`` of a chapter's ``draw(ax, value)`` over the
+  values to sweep, rendered with ``to_jshtml()`` (self-contained HTML/JavaScript, the
+  frames embedded as PNGs), with axes fixed across frames, an ``alt`` text and a
+  labelled slider. It works offline, without a kernel. Chapters use it for any sweep
+  (a noise parameter, a sensor's σ, a filter's weight)::
+
+      def draw(ax, sigma):
+          plot_something(..., sigma=sigma, ax=ax)
+
+
+      parameter_player(draw, np.linspace(0.1, 1.0, 6), label="σ")
+
+* :func:`alpha_player` — its thin case for the motion models: sweeps one
+  :math:`\alpha` of :func:`probrob.plotting.plot_motion_model`.
 
 The callbacks are thin: they call :func:`probrob.plotting.plot_motion_model`, which
 calls the models. ``ipywidgets`` and ``IPython`` are imported only when used.
@@ -21,7 +33,12 @@ import numpy as np
 from . import _validation as check
 from .plotting import DISTRIBUTIONS, motion_extent, motion_samples, plot_motion_model
 
-__all__ = ["alpha_player", "odometry_model_explorer", "velocity_model_explorer"]
+__all__ = [
+    "alpha_player",
+    "odometry_model_explorer",
+    "parameter_player",
+    "velocity_model_explorer",
+]
 
 _CDN_STYLESHEET = re.compile(r"<link\s+rel=\"stylesheet\"\s+href=\"https?://[^\"]*\"\s*/?>")
 
@@ -186,6 +203,138 @@ def odometry_model_explorer(
     return _explorer(controls, draw, columns)
 
 
+def _player_limits(draw, values, figsize, dpi):
+    """The union of the data limits that ``draw`` gives each value (a dry run, no pixels)."""
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=figsize, dpi=dpi)
+    lo, hi = np.full(2, np.inf), np.full(2, -np.inf)
+    try:
+        for value in values:
+            fig.clear()
+            ax = fig.add_subplot()
+            draw(ax, value)
+            (x0, x1), (y0, y1) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+            lo, hi = np.minimum(lo, [x0, y0]), np.maximum(hi, [x1, y1])
+    finally:
+        plt.close(fig)
+    return (lo[0], hi[0]), (lo[1], hi[1])
+
+
+def parameter_player(
+    draw,
+    values,
+    *,
+    label,
+    xlim=None,
+    ylim=None,
+    fixed_axes=True,
+    figsize=(5.6, 4.2),
+    dpi=None,
+    interval=700,
+    fmt=".3g",
+    alt=None,
+):
+    r"""Return a kernel-free player of ``draw(ax, value)`` for each of ``values``.
+
+    The one player factory of the book: a chapter passes a function that draws one
+    frame on a fresh ``Axes`` (calling :mod:`probrob.plotting`, which calls the
+    models) and the values of the parameter to sweep. The player is
+    ``matplotlib.animation.FuncAnimation(...).to_jshtml()``: self-contained HTML and
+    JavaScript with every frame embedded as a PNG, which runs offline in any browser,
+    with no kernel and no network (the Font Awesome stylesheet that ``to_jshtml``
+    links from a CDN is removed; the book's theme ships the icons). The frame image
+    gets an ``alt`` text and the frame slider an ``aria-label``.
+
+    All frames share their axes, so a reader sees the picture change, not the scale:
+    ``xlim`` and ``ylim`` if given, else (``fixed_axes=True``) the union of the limits
+    that ``draw`` sets or autoscales to over all values (found by a dry run that
+    draws every frame once more without rendering it). Each frame without a title of
+    its own is titled ``f"{label} = {value:{fmt}}"``.
+
+    Parameters
+    ----------
+    draw : callable
+        ``draw(ax, value)``; draws one frame. It may add colorbars (the figure is
+        cleared between frames).
+    values : array_like, shape (F,)
+        The swept values, one frame each.
+    label : str
+        Name of the swept parameter, for titles and the accessible labels.
+    xlim, ylim : (float, float), optional
+        Axis limits shared by every frame.
+    fixed_axes : bool
+        Without ``xlim``/``ylim``, share the union of the frames' limits (default) or
+        let each frame scale itself (``False``).
+    figsize : (float, float)
+        Frame size in inches; keep the width at most
+        :data:`probrob.plotting.BOOK_FIGURE_WIDTH`.
+    dpi : float, optional
+        Resolution; default :data:`probrob.plotting.BOOK_DPI`.
+    interval : int
+        Milliseconds per frame when playing.
+    fmt : str
+        Format of the value in the default titles.
+    alt : str, optional
+        Text alternative of the player's image; default names the sweep.
+
+    Returns
+    -------
+    player : IPython.display.HTML
+        Display it (last expression of a cell, or ``display(player)``).
+    """
+    import html as html_lib
+
+    import matplotlib.pyplot as plt
+    from IPython.display import HTML
+    from matplotlib.animation import FuncAnimation
+
+    from .plotting import BOOK_DPI
+
+    check.callable_arg(draw, "draw")
+    values = list(np.asarray(values).ravel()) if np.ndim(values) else None
+    if not values:
+        raise ValueError("values must be a non-empty 1-D sequence of values to sweep")
+    if not isinstance(label, str) or not label:
+        raise ValueError(f"label must be a non-empty string, got {label!r}")
+    dpi = BOOK_DPI if dpi is None else check.positive_scalar(dpi, "dpi")
+    if fixed_axes and (xlim is None or ylim is None):
+        auto_x, auto_y = _player_limits(draw, values, figsize, dpi)
+        xlim = auto_x if xlim is None else xlim
+        ylim = auto_y if ylim is None else ylim
+    fig = plt.figure(figsize=figsize, dpi=dpi)
+
+    def frame(k):
+        fig.clear()
+        ax = fig.add_subplot()
+        draw(ax, values[k])
+        if xlim is not None:
+            ax.set_xlim(*xlim)
+        if ylim is not None:
+            ax.set_ylim(*ylim)
+        if not ax.get_title():
+            ax.set_title(f"{label} = {values[k]:{fmt}}")
+
+    anim = FuncAnimation(fig, frame, frames=len(values), interval=interval)
+    page = anim.to_jshtml(default_mode="once")
+    plt.close(fig)
+    # to_jshtml links Font Awesome from a CDN for its button icons; the book's theme ships
+    # Font Awesome itself, and a page that works offline must not reach out.
+    page = _CDN_STYLESHEET.sub("", page)
+    if alt is None:
+        alt = (
+            f"Player: {label} swept over {len(values)} frames, from "
+            f"{values[0]:{fmt}} to {values[-1]:{fmt}}"
+        )
+    alt = html_lib.escape(alt, quote=True)
+    page = page.replace('<img id="_anim_img', f'<img alt="{alt}" id="_anim_img', 1)
+    slider = html_lib.escape(f"frame of the {label} sweep", quote=True)
+    page = page.replace(
+        '<input id="_anim_slider', f'<input aria-label="{slider}" id="_anim_slider', 1
+    )
+    return HTML(page)
+
+
 def alpha_player(
     model,
     index,
@@ -198,17 +347,18 @@ def alpha_player(
     n_samples=400,
     grid=120,
     rng=0,
-    figsize=(5.0, 4.4),
-    dpi=72,
+    figsize=(5.6, 4.2),
+    dpi=None,
     interval=700,
     **plot_kw,
 ):
     r"""Return a kernel-free player that sweeps :math:`\alpha_{index}` over ``values``.
 
-    Each frame is :func:`~probrob.plotting.plot_motion_model` with one noise
-    parameter replaced; all frames share one plot box, so they are comparable. The
-    player is ``FuncAnimation(...).to_jshtml()``: self-contained HTML and JavaScript
-    with the frames embedded as PNG, which runs offline in any browser.
+    A thin case of :func:`parameter_player`: each frame is
+    :func:`~probrob.plotting.plot_motion_model` (density with its colorbar, samples,
+    start and noise-free end pose) with one noise parameter replaced. All frames
+    share one plot box, which holds the sample clouds of every frame, so a reader
+    sees the cloud grow rather than the axes rescale.
 
     Parameters
     ----------
@@ -222,8 +372,8 @@ def alpha_player(
     u_t, x_prev, dt
         As for :func:`~probrob.plotting.plot_motion_model`.
     n_samples, grid, rng, figsize, dpi, interval
-        Samples per frame, density grid, seed, figure size (in), resolution, and
-        milliseconds per frame.
+        Samples per frame, density grid, seed, figure size (in), resolution (default
+        the book's), and milliseconds per frame.
     **plot_kw
         Passed on to :func:`~probrob.plotting.plot_motion_model` (``distribution``,
         ``noise``).
@@ -232,54 +382,58 @@ def alpha_player(
     -------
     player : IPython.display.HTML
     """
-    import matplotlib.pyplot as plt
-    from IPython.display import HTML
-    from matplotlib.animation import FuncAnimation
-
     alpha = check.finite(alpha, "alpha")
     values = check.finite(values, "values")
     if values.ndim != 1 or values.size == 0 or np.any(values < 0):
         raise ValueError("values must be a non-empty 1-D sequence of non-negative numbers")
     if not (isinstance(index, int | np.integer) and 1 <= index <= alpha.size):
         raise ValueError(f"index must be an integer in 1..{alpha.size}, got {index!r}")
-    frames = []
-    for value in values:
+
+    def with_value(value):
         a = alpha.copy()
         a[index - 1] = value
-        frames.append(a)
+        return a
+
     common = {"dt": dt, "distribution": plot_kw.get("distribution", "normal (12 uniforms)")}
     common["noise"] = plot_kw.get("noise", "variance")
     clouds = [
-        motion_samples(model, u_t, x_prev, a, n=n_samples, rng=rng, **common) for a in frames
+        motion_samples(model, u_t, x_prev, with_value(v), n=n_samples, rng=rng, **common)
+        for v in values
     ]
-    extent = motion_extent(np.concatenate([c for c, _ in clouds]), include=[x_prev, clouds[0][1]])
-    fig, ax = plt.subplots(figsize=figsize, dpi=dpi)
+    x0, x1, y0, y1 = motion_extent(
+        np.concatenate([c for c, _ in clouds]), include=[x_prev, clouds[0][1]]
+    )
 
-    def draw(k):
-        ax.clear()
+    def draw(ax, value):
         plot_motion_model(
             model,
             u_t,
             x_prev,
-            frames[k],
+            with_value(value),
             n_samples=n_samples,
             n_headings=60,
             grid=grid,
-            extent=extent,
+            extent=(x0, x1, y0, y1),
             rng=rng,
             ax=ax,
-            title=f"{model} model, α{index} = {values[k]:.3g}",
+            title=f"{model} model, α{index} = {value:.3g}",
             **common,
         )
-        fig.tight_layout()
 
-    anim = FuncAnimation(fig, draw, frames=len(frames), interval=interval)
-    html = anim.to_jshtml(default_mode="once")
-    plt.close(fig)
-    # to_jshtml links Font Awesome from a CDN for its button icons; the book's theme ships
-    # Font Awesome itself, and a page that works offline must not reach out.
-    html = _CDN_STYLESHEET.sub("", html)
-    return HTML(html)
+    return parameter_player(
+        draw,
+        values,
+        label=f"α{index}",
+        xlim=(x0, x1),
+        ylim=(y0, y1),
+        figsize=figsize,
+        dpi=dpi,
+        interval=interval,
+        alt=(
+            f"Player: the {model} model's density and samples as α{index} goes from "
+            f"{values[0]:.3g} to {values[-1]:.3g} in {len(values)} frames"
+        ),
+    )
 
 
 # ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live) ----------

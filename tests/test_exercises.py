@@ -1,0 +1,68 @@
+"""The exercise checks, and the exercise pattern of every chapter notebook."""
+
+from pathlib import Path
+
+import nbformat
+import numpy as np
+import pytest
+
+from probrob.exercises import check
+
+NOTEBOOKS = sorted((Path(__file__).parent.parent / "notebooks").glob("*.ipynb"))
+
+
+def test_missing_answer_is_reported_not_raised(capsys):
+    assert check("Ex 1", None, 3.0) is False
+    assert check("Ex 1", ..., 3.0) is False
+    assert capsys.readouterr().out.count("Ex 1: not yet — no answer yet") == 2
+
+
+@pytest.mark.parametrize(
+    ("answer", "message"),
+    [
+        (3.0, "correct"),
+        (3.0 + 1e-9, "correct"),
+        (3.5, "not yet — too large"),
+        (2.0, "not yet — too small"),
+        ([3.0, 3.0], "expected shape ()"),
+        ("three", "expected a number"),
+        (float("nan"), "NaN"),
+    ],
+)
+def test_expected_values(capsys, answer, message):
+    ok = check("Ex", answer, 3.0)
+    out = capsys.readouterr().out
+    assert message in out and ok == (message == "correct")
+    assert "3.0" not in out.replace(str(answer), "")  # the expected value is never shown
+
+
+def test_property_tests_never_raise(capsys):
+    assert check("Ex", 2, test=lambda a: None if a % 2 == 0 else "odd") is True
+    assert check("Ex", 3, test=lambda a: None if a % 2 == 0 else "odd") is False
+    assert check("Ex", 3, test=lambda a: a % 2 == 0) is False
+    assert check("Ex", "x", test=lambda a: np.sqrt(a)) is False
+    out = capsys.readouterr().out.splitlines()
+    assert out[0] == "Ex: correct"
+    assert out[1] == "Ex: not yet — odd"
+    assert out[2] == "Ex: not yet — the answer does not pass the check"
+    assert out[3].startswith("Ex: not yet — checking the answer raised")
+
+
+def _outputs(cell):
+    return "".join(o.get("text", "") for o in cell.outputs if o.output_type == "stream")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_every_exercise_starts_unsolved_and_has_a_collapsed_solution(path):
+    """Check cells print "not yet" (the book shows them unsolved); solution cells are
+    collapsed (hide-input) and print "correct" (nbval re-runs them and compares)."""
+    cells = nbformat.read(path, as_version=4).cells
+    checks = [c for c in cells if "exercise-check" in c.metadata.get("tags", [])]
+    solutions = [c for c in cells if "exercise-solution" in c.metadata.get("tags", [])]
+    assert len(checks) == len(solutions)
+    for cell in checks:
+        assert "not yet" in _outputs(cell), cell.source
+    for cell in solutions:
+        assert "hide-input" in cell.metadata["tags"], cell.source
+        out = _outputs(cell)
+        assert out.strip() and "not yet" not in out and out.count(": correct") >= 1, cell.source
