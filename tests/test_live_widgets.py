@@ -21,7 +21,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from probrob.distributions import prob_normal_distribution, prob_triangular_distribution
+from probrob.distributions import (
+    prob_normal_distribution,
+    prob_triangular_distribution,
+    sample_normal_distribution,
+)
 from probrob.motion import (
     apply_odometry_deltas,
     motion_model_odometry,
@@ -29,8 +33,14 @@ from probrob.motion import (
     sample_motion_model_odometry,
     sample_motion_model_velocity,
 )
+from probrob.sensors import (
+    landmark_model_known_correspondence,
+    sample_landmark_model_known_correspondence,
+)
 from probrob.widgets import (
     LiveWidget,
+    landmark_draws,
+    landmark_model_live,
     live_widget,
     odometry_model_live,
     standard_draws,
@@ -72,16 +82,18 @@ def _config(widget: LiveWidget) -> dict:
     return json.loads(match.group(1))
 
 
-@pytest.mark.parametrize("make", [velocity_model_live, odometry_model_live])
+@pytest.mark.parametrize("make", [velocity_model_live, odometry_model_live, landmark_model_live])
 def test_widget_is_one_small_self_contained_accessible_block(make):
     widget = make()
+    config = _config(widget)
     html = widget._repr_html_()
     assert len(html.encode()) <= 200_000, f"{len(html.encode())} bytes"
     assert "http:" not in html and "https:" not in html and "//cdn" not in html
     survey = _Survey()
     survey.feed(html)
     assert survey.fetching == []  # no src/href: nothing loaded from anywhere
-    assert len(survey.controls) >= 2 * 8 + 3  # a slider and a number per parameter, 3 choices
+    # a slider and a number box per numeric parameter, a menu per choice
+    assert len(survey.controls) == 2 * len(config["sliders"]) + len(config["choices"]) >= 14
     for control in survey.controls:
         assert control.get("id") in survey.labels or control.get("aria-label"), control
     assert len(survey.canvases) == 1 and survey.canvases[0].get("aria-label")
@@ -123,6 +135,12 @@ def test_widget_bad_input():
         live_widget("ackermann", [], title="t", caption="c", aria_label="a")
     with pytest.raises(ValueError, match="n"):
         standard_draws(-3)
+    with pytest.raises(ValueError, match="sigmas"):
+        landmark_model_live(sigmas=[0.1, 0.1])
+    with pytest.raises(ValueError, match="draws"):
+        live_widget(
+            "velocity", [], title="t", caption="c", aria_label="a", draws={"normal": np.ones(3)}
+        )
 
 
 # ------------------------------------------------------------------------------ the browser
@@ -157,11 +175,12 @@ def browser():
 
 @pytest.fixture(scope="module")
 def page(browser, tmp_path_factory):
-    """A page with a velocity widget (index 0) and an odometry widget (index 1)."""
+    """A page with a velocity (index 0), an odometry (1) and a landmark widget (2)."""
     cdp, b = browser
     widgets = [
         velocity_model_live(n_particles=N, grid=GRID, rng=SEED),
         odometry_model_live(n_particles=N, grid=GRID, rng=SEED),
+        landmark_model_live(n_particles=N, grid=GRID, rng=SEED),
     ]
     path = tmp_path_factory.mktemp("live") / "widgets.html"
     body = "\n".join(w.html for w in widgets)
@@ -326,9 +345,38 @@ def test_odometry_widget_computes_what_probrob_computes(page, name):
     # the line through the start along θ + δrot1, a line mass that no grid point hits)
 
 
-@pytest.mark.parametrize("index", [0, 1])
+LANDMARK_SETTINGS = {
+    "the widget as shipped": {},
+    "bearing and heading near ±π": dict(phi=3.1, theta=-3.1, r=1.5),
+    "wide bearing noise, signature off the landmark's": dict(sphi=0.8, sr=0.3, r=1.0, s=1.3),
+    "σ_s = 0 with the landmark's signature (point mass matched)": dict(ss=0, s=1.0),
+    "σ_r = 0 (poses on an exact circle)": dict(sr=0),
+}
+
+
+@pytest.mark.parametrize("name", list(LANDMARK_SETTINGS))
+def test_landmark_widget_computes_what_probrob_computes(page, name):
+    state = _set(page, 2, LANDMARK_SETTINGS[name])
+    p = state["values"]
+    f, m = [p["r"], p["phi"], p["s"]], [[0.0, 0.0, 1.0]]
+    sigmas = [p["sr"], p["sphi"], p["ss"]]
+    g = np.random.default_rng(SEED)  # the order of landmark_draws: normals, then γ̂
+    z = sample_normal_distribution(1.0, size=(3, N), rng=g)
+    poses = sample_landmark_model_known_correspondence(
+        f, 0, m, sigmas, size=N, rng=g, sample=_replay(z[:2])
+    )
+    _assert_parity(state["particles"], poses, f"{name}: poses")
+    q = landmark_model_known_correspondence(f, 0, _hypotheses(state, "pose"), m, sigmas)
+    _assert_parity(state["density"], q, f"{name}: likelihood")
+    assert np.ptp(np.hypot(poses[:, 0], poses[:, 1])) > 0.05 or p["sr"] == 0
+    if p["sr"] > 0:
+        assert np.nanmax(q) > 0
+
+
+@pytest.mark.parametrize("index", [0, 1, 2])
 def test_widget_decodes_the_draws_python_embedded(page, index):
-    for name, z in standard_draws(N, SEED).items():
+    draws = landmark_draws(N, SEED) if index == 2 else standard_draws(N, SEED)
+    for name, z in draws.items():
         js = _floats(page.js(f"probrobLive.widgets[{index}].draws({json.dumps(name)})"))
         np.testing.assert_array_equal(js, z.ravel())
 

@@ -10,17 +10,23 @@ embeds a seeded set of *standardized draws* :math:`z` made by :mod:`probrob.dist
   the triangular sampler, so that a cloud for any :math:`\alpha` is the same draws rescaled;
 * the density on a grid (default 100 × 100) over the plot box;
 
-and draws both on a ``<canvas>`` with the start pose, the noise-free end pose, axes and a
-colour bar. The JavaScript is a second implementation of the book's tables, so
-``tests/test_live_widgets.py`` drives it in headless Chromium and compares its particles and
-density grid with :mod:`probrob.motion` fed the same draws, to a relative :math:`10^{-9}`.
+and draws both on a ``<canvas>`` with markers (the start pose, the noise-free end pose, a
+landmark), axes and a colour bar. The JavaScript is a second implementation of the book's
+tables, so ``tests/test_live_widgets.py`` drives it in headless Chromium and compares its
+particles and density grid with :mod:`probrob.motion` and :mod:`probrob.sensors` fed the same
+draws, to a relative :math:`10^{-9}`.
 
-The generic part (``_live_assets/live.js``, ``live.css``) lays out the controls, keeps the
-view, draws, times each update and exposes the test hook; a model adds one JavaScript kernel
-file ``_live_assets/<name>.js`` (which assigns ``kernels.<name>``, see ``live.js`` for the
-five functions it provides) and one Python function that calls :func:`live_widget` with its
-sliders and choices, e.g. :func:`velocity_model_live`. The files are package data, read when
-a widget is made and inlined into its HTML.
+Adding a model is one JavaScript kernel and one Python function. The generic part
+(``_live_assets/live.js``, ``live.css``) lays out the controls, keeps the view, draws, times
+each update and exposes the test hook. A kernel file ``_live_assets/<name>.js`` assigns
+``kernels.<name>`` an object with ``markers``, ``heading``, ``sample``, ``density``, ``title``
+and ``densityLabel`` (their contract is at the top of ``live.js``; ``landmark.js`` is the
+shortest example). The Python function calls :func:`live_widget` with the kernel's name, its
+:class:`Slider` and :class:`Choice` list, any fixed ``constants`` and the embedded ``draws``
+(e.g. :func:`landmark_model_live`); a test then compares the kernel with the library. The
+files are package data, read when a widget is made and inlined into its HTML. (A sensor model
+whose natural picture is a curve, such as the beam model's :math:`p(z \mid z^*)`, would also
+need a curve layer in ``live.js``; the planar models need none.)
 
 Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
@@ -28,12 +34,12 @@ itself in ``window.probrobLive.widgets`` (page order) as a handle with
 * ``values()``, ``defaults()`` — the current and the initial parameter values by name;
 * ``set({name: value, ...}, refit)`` — set parameters (as the controls would), recompute and
   redraw synchronously (``refit``: fit the view to the new cloud), and return ``state()``;
-* ``state()`` — ``{values, n, nx, ny, start, end, theta, view, xs, ys, particles, density,
+* ``state()`` — ``{values, n, nx, ny, markers, theta, view, xs, ys, particles, density,
   timings}``: the arrays as base64 of little-endian float64 (``particles`` is ``(n, 3)``,
   ``density`` is ``(ny, nx)`` with ``density[i, j]`` at ``(xs[j], ys[i])``, ``theta`` the
-  hypothesis heading of the ``"pose"`` and ``"book"`` densities) and the milliseconds of the
-  last update (``compute``: particles and grid; ``draw``; ``total``);
-* ``draws(name)`` — the embedded draws of one distribution, base64 float64 ``(3, n)``;
+  hypothesis heading of densities taken at one heading) and the milliseconds of the last
+  update (``compute``: particles and grid; ``draw``; ``total``);
+* ``draws(name)`` — one embedded array of draws, base64 float64 ``(k, n)``;
 * ``bench(count)`` — time ``count`` full updates (after 10 untimed ones), each with one
   parameter moved; returns ``{count, compute, draw, total}``, each ``{median, p90, max}`` in
   milliseconds.
@@ -57,6 +63,8 @@ __all__ = [
     "Choice",
     "LiveWidget",
     "Slider",
+    "landmark_draws",
+    "landmark_model_live",
     "live_widget",
     "odometry_model_live",
     "standard_draws",
@@ -152,6 +160,35 @@ def standard_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
     }
 
 
+def landmark_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
+    r"""Return seeded draws for Table 6.5: standardized normals and the ring angle :math:`\hat\gamma`.
+
+    One generator makes ``"normal"`` (shape ``(3, n)``,
+    :func:`~probrob.distributions.sample_normal_distribution` with variance 1; rows 0 and 1
+    are the range and bearing noise) and then ``"gamma"`` (shape ``(1, n)``,
+    :math:`\mathrm{rand}(0, 2\pi)` by ``Generator.uniform``). A generator in that state, passed
+    to :func:`~probrob.sensors.sample_landmark_model_known_correspondence`, draws the same
+    :math:`\hat\gamma` first.
+
+    Parameters
+    ----------
+    n : int
+        Draws per row (poses).
+    rng : None, int or numpy.random.Generator
+        Seed.
+
+    Returns
+    -------
+    draws : dict
+        ``{"normal": ndarray (3, n), "gamma": ndarray (1, n)}``.
+    """
+    if not (isinstance(n, int | np.integer) and n >= 1):
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    rng = np.random.default_rng(rng)
+    z = sample_normal_distribution(1.0, size=(3, int(n)), rng=rng)
+    return {"normal": z, "gamma": rng.uniform(0.0, 2.0 * np.pi, size=(1, int(n)))}
+
+
 def _b64(arr: np.ndarray) -> str:
     return base64.b64encode(np.ascontiguousarray(arr, dtype="<f8").tobytes()).decode("ascii")
 
@@ -196,6 +233,7 @@ def live_widget(
     caption: str,
     aria_label: str,
     draws: dict[str, np.ndarray] | None = None,
+    constants: dict[str, float] | None = None,
     n_particles: int = 2000,
     grid: int = 100,
     headings: int = 60,
@@ -219,8 +257,12 @@ def live_widget(
     title, caption, aria_label : str
         A heading above the widget, a sentence below the plot saying what it shows, and the
         canvas's accessible name.
-    draws : dict of ndarray (3, n), optional
-        Standardized draws by distribution; default :func:`standard_draws` ``(n_particles, rng)``.
+    draws : dict of ndarray (k, n), optional
+        Draws by name (``n = n_particles``): the kernel's ``sample`` gets the one named by the
+        ``distribution`` choice and all of them; default :func:`standard_draws`
+        ``(n_particles, rng)``.
+    constants : dict of float, optional
+        Fixed parameters the kernel reads like slider values (e.g. a landmark's position).
     n_particles, grid, headings : int
         Particles, density grid points per axis, and how many particles show a heading.
     rng : None, int or numpy.random.Generator
@@ -247,9 +289,12 @@ def live_widget(
         draws = standard_draws(n_particles, rng)
     draws = {k: check.finite(v, f"draws[{k!r}]") for k, v in draws.items()}
     for k, v in draws.items():
-        if v.shape != (3, n_particles):
-            raise ValueError(f"draws[{k!r}] must have shape (3, {n_particles}), got {v.shape}")
-    names = [s.name for s in sliders] + [c.name for c in choices]
+        if v.ndim != 2 or v.shape[1] != n_particles:
+            raise ValueError(f"draws[{k!r}] must have shape (k, {n_particles}), got {v.shape}")
+    constants = {
+        k: float(check.finite(v, f"constants[{k!r}]")) for k, v in (constants or {}).items()
+    }
+    names = [s.name for s in sliders] + [c.name for c in choices] + list(constants)
     if len(set(names)) != len(names):
         raise ValueError(f"parameter names must be unique, got {names}")
     for s in sliders:
@@ -260,8 +305,9 @@ def live_widget(
             raise ValueError(
                 f"{c.name} must be one of {[v for v, _ in c.options]}, got {c.value!r}"
             )
-        if c.name == "distribution" and not set(dict(c.options)) <= set(draws):
-            raise ValueError(f"distribution options need draws, have {sorted(draws)}")
+    families = [v for c in choices if c.name == "distribution" for v, _ in c.options]
+    if not set(families or ["normal"]) <= set(draws):
+        raise ValueError(f"every distribution needs its draws, have {sorted(draws)}")
 
     wid = f"probrob-live-{kernel}-{next(_COUNTER)}"
     config = {
@@ -276,6 +322,7 @@ def live_widget(
             for s in sliders
         ],
         "choices": [{"name": c.name, "value": c.value} for c in choices],
+        "constants": constants,
         "draws": {k: _b64(v) for k, v in draws.items()},
     }
     config_js = json.dumps(config, ensure_ascii=True).replace("</", "<\\/")
@@ -465,6 +512,83 @@ def odometry_model_live(
             "Plot of the odometry motion model in the x-y plane: a cloud of sampled end poses "
             "over a grey density image, with the start pose and the noise-free end pose."
         ),
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+    )
+
+
+def landmark_model_live(
+    *,
+    r=2.0,
+    phi=0.5,
+    s=1.0,
+    sigmas=(0.1, 0.05, 0.2),
+    theta=0.0,
+    landmark=(0.0, 0.0, 1.0),
+    n_particles=2000,
+    grid=100,
+    rng=0,
+) -> LiveWidget:
+    r"""Return a live widget of the landmark model (Tables 6.4 and 6.5).
+
+    Sliders for the feature :math:`f = (r, \phi, s)`, the standard deviations
+    :math:`(\sigma_r, \sigma_\phi, \sigma_s)` and the heading :math:`	heta` at which the
+    likelihood is drawn. Red: poses of
+    :func:`~probrob.sensors.sample_landmark_model_known_correspondence` (the embedded draws of
+    :func:`landmark_draws`); grey:
+    :func:`~probrob.sensors.landmark_model_known_correspondence` over :math:`(x, y)` for poses
+    with heading :math:`	heta`; blue square: the landmark.
+
+    Parameters
+    ----------
+    r, phi, s : float
+        The feature: range in [0, 5] m, bearing in [-3.14, 3.14] rad, signature in [0, 3].
+    sigmas : array_like, shape (3,)
+        :math:`(\sigma_r, \sigma_\phi, \sigma_s)`, each in [0, 1].
+    theta : float
+        Heading of the likelihood image, in [-3.14, 3.14] rad.
+    landmark : array_like, shape (3,)
+        The landmark :math:`(x, y, s)` the feature corresponds to.
+    n_particles, grid, rng
+        Poses, likelihood grid points per axis, seed of the draws.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    sigmas = check.finite(sigmas, "sigmas")
+    if sigmas.shape != (3,):
+        raise ValueError(f"sigmas must hold (σ_r, σ_φ, σ_s), got shape {sigmas.shape}")
+    mx, my, ms = check.vectors(landmark, "landmark", 3, "x, y, s")
+    sliders = [
+        Slider("r", "r [m]", _in_range(r, "r", 0, 5), 0.0, 5.0, 0.01),
+        Slider("phi", "φ [rad]", _in_range(phi, "phi", -3.14, 3.14), -3.14, 3.14, 0.01),
+        Slider("s", "s", _in_range(s, "s", 0, 3), 0.0, 3.0, 0.01),
+        Slider("sr", "σr [m]", _in_range(sigmas[0], "sigmas[0]", 0, 1), 0.0, 1.0, 0.005),
+        Slider("sphi", "σφ [rad]", _in_range(sigmas[1], "sigmas[1]", 0, 1), 0.0, 1.0, 0.005),
+        Slider("ss", "σs", _in_range(sigmas[2], "sigmas[2]", 0, 1), 0.0, 1.0, 0.005),
+        Slider(
+            "theta", "θ image [rad]", _in_range(theta, "theta", -3.14, 3.14), -3.14, 3.14, 0.01
+        ),
+    ]
+    return live_widget(
+        "landmark",
+        sliders,
+        title="Landmark model (Tables 6.4 and 6.5)",
+        caption=(
+            f"Red: {n_particles} poses of Table 6.5 drawn from the feature (the first 60 with "
+            "their heading): a ring around the landmark (blue square). Grey: the likelihood "
+            "p(f | x, m) of Table 6.4 over (x, y) for poses with the heading θ of the slider "
+            "(darker is more likely): the part of the ring from which the landmark is seen at "
+            "bearing φ when facing θ. The signature s scales the whole image."
+        ),
+        aria_label=(
+            "Plot of the landmark model in the x-y plane: a ring of sampled poses around the "
+            "landmark, over a grey likelihood image for one heading."
+        ),
+        draws=landmark_draws(n_particles, rng),
+        constants={"mx": mx, "my": my, "ms": ms},
         n_particles=n_particles,
         grid=grid,
         rng=rng,

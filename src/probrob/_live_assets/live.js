@@ -3,17 +3,18 @@
 // which adds its kernel to `kernels` (see velocity.js). No network, no library, no build step.
 //
 // A kernel is an object with
-//   start(p)            -> [x, y, theta], the pose before the motion
-//   end(p)              -> [x, y, theta], the noise-free pose after it
-//   sample(p, z, n, out)   fills out (Float64Array, n*3, rows x, y, theta) from the
-//                          standardized draws z (Float64Array, 3*n, row k = z[k*n .. k*n+n))
+//   markers(p)          -> [{x, y, theta, color}, ...]: poses drawn as arrows (theta null: a
+//                          square, e.g. a landmark); the view always holds them
+//   heading(p)          -> the hypothesis heading of densities over (x, y) at a fixed heading
+//   sample(p, z, n, out, draws)  fills out (Float64Array, n*3, rows x, y, theta) from the
+//                          standardized draws z = draws[p.distribution] (Float64Array, k*n,
+//                          row k = z[k*n .. k*n+n)); draws holds every embedded array by name
 //   density(p, xs, ys, theta, out)  fills out (Float64Array, ys.length*xs.length, row-major,
-//                          out[i*nx + j] at (xs[j], ys[i])) with the density; theta is the
-//                          hypothesis heading for the modes that need one
+//                          out[i*nx + j] at (xs[j], ys[i])) with the density; theta = heading(p)
 //   title(p)            -> string above the plot
 //   densityLabel(p)     -> string beside the colour bar
 // where p holds every slider and choice value by name, plus p.prob(a, b2), the zero-mean
-// density of Table 5.2 chosen by p.distribution.
+// density of Table 5.2 chosen by p.distribution (default "normal").
 
 const kernels = {};
 
@@ -156,7 +157,7 @@ function mountLiveWidget(root, config, kernel) {
   let pending = false;
 
   function params() {
-    const p = Object.assign({}, values);
+    const p = Object.assign({}, config.constants, values);
     // the "distribution" choice names both the draws and the density (default "normal")
     const family = p.distribution || "normal";
     p.family = family;
@@ -165,17 +166,19 @@ function mountLiveWidget(root, config, kernel) {
   }
 
   // The box of probrob.plotting.motion_extent: central 99 % of the cloud, both poses, padded.
-  function fitBox(start, end) {
+  function fitBox(markers) {
     const px = new Float64Array(n);
     const py = new Float64Array(n);
     for (let i = 0; i < n; i++) {
       px[i] = particles[3 * i];
       py[i] = particles[3 * i + 1];
     }
-    let lox = Math.min(percentile(px, 0.5), start[0], end[0]);
-    let hix = Math.max(percentile(px, 99.5), start[0], end[0]);
-    let loy = Math.min(percentile(py, 0.5), start[1], end[1]);
-    let hiy = Math.max(percentile(py, 99.5), start[1], end[1]);
+    const mx = markers.map((m) => m.x);
+    const my = markers.map((m) => m.y);
+    let lox = Math.min(percentile(px, 0.5), ...mx);
+    let hix = Math.max(percentile(px, 99.5), ...mx);
+    let loy = Math.min(percentile(py, 0.5), ...my);
+    let hiy = Math.max(percentile(py, 99.5), ...my);
     if (!Number.isFinite(lox + hix + loy + hiy)) [lox, hix, loy, hiy] = [-1, 1, -1, 1];
     const cx = (lox + hix) / 2;
     const cy = (loy + hiy) / 2;
@@ -204,17 +207,16 @@ function mountLiveWidget(root, config, kernel) {
 
   function compute(refit) {
     const p = params();
-    kernel.sample(p, draws[p.family], n, particles);
-    const start = kernel.start(p);
-    const end = kernel.end(p);
-    updateView(fitBox(start, end), refit);
+    kernel.sample(p, draws[p.family], n, particles, draws);
+    const markers = kernel.markers(p);
+    updateView(fitBox(markers), refit);
     const dx = (view[1] - view[0]) / nx;
     const dy = (view[3] - view[2]) / ny;
     for (let j = 0; j < nx; j++) xs[j] = view[0] + (j + 0.5) * dx;
     for (let i = 0; i < ny; i++) ys[i] = view[2] + (i + 0.5) * dy;
-    hypothesisHeading = end[2];
+    hypothesisHeading = kernel.heading(p);
     kernel.density(p, xs, ys, hypothesisHeading, density);
-    return { p, start, end };
+    return { p, markers };
   }
 
   // ---- drawing ------------------------------------------------------------------------
@@ -246,7 +248,7 @@ function mountLiveWidget(root, config, kernel) {
   }
 
   function draw(state) {
-    const { p, start, end } = state;
+    const { p, markers } = state;
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.fillStyle = "#fff";
     ctx.fillRect(0, 0, W, H);
@@ -300,8 +302,14 @@ function mountLiveWidget(root, config, kernel) {
       ctx.lineTo(sx(x + len * Math.cos(th)), sy(y + len * Math.sin(th)));
     }
     ctx.stroke();
-    arrow(start[0], start[1], start[2], 0.08 * (x1 - x0), "#000", sx, sy);
-    arrow(end[0], end[1], end[2], 0.08 * (x1 - x0), "#1f77b4", sx, sy);
+    for (const m of markers) {
+      if (m.theta === null) {
+        ctx.fillStyle = m.color;
+        ctx.fillRect(sx(m.x) - 5, sy(m.y) - 5, 10, 10);
+      } else {
+        arrow(m.x, m.y, m.theta, 0.08 * (x1 - x0), m.color, sx, sy);
+      }
+    }
     ctx.restore();
 
     // axes
@@ -446,8 +454,7 @@ function mountLiveWidget(root, config, kernel) {
         n,
         nx,
         ny,
-        start: kernel.start(p),
-        end: kernel.end(p),
+        markers: kernel.markers(p),
         theta: hypothesisHeading,
         view: view.slice(),
         xs: encodeFloat64(xs),

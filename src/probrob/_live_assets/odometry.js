@@ -29,8 +29,15 @@ kernels.odometry = {
   var1: (p, r1, t) => noiseVariance(p.noise, p.a1, r1, p.a2, t),
   varT: (p, r1, t, r2) => noiseVariance(p.noise, p.a3, t, p.a4, r1, p.a4, r2),
   var2: (p, t, r2) => noiseVariance(p.noise, p.a1, r2, p.a2, t),
-  start(p) {
-    return [0, 0, p.theta];
+  markers(p) {
+    const e = this.end(p);
+    return [
+      { x: 0, y: 0, theta: p.theta, color: "#000" }, // the start pose
+      { x: e[0], y: e[1], theta: e[2], color: "#1f77b4" }, // the noise-free end pose
+    ];
+  },
+  heading(p) {
+    return this.end(p)[2];
   },
   end(p) {
     const [r1, t, r2] = this.deltas(p);

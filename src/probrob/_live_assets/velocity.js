@@ -11,8 +11,15 @@ kernels.velocity = {
       noiseVariance(p.noise, p.a5, p.v, p.a6, p.w),
     ];
   },
-  start(p) {
-    return [0, 0, p.theta];
+  markers(p) {
+    const e = this.end(p);
+    return [
+      { x: 0, y: 0, theta: p.theta, color: "#000" }, // the start pose
+      { x: e[0], y: e[1], theta: e[2], color: "#1f77b4" }, // the noise-free end pose
+    ];
+  },
+  heading(p) {
+    return this.end(p)[2];
   },
   end(p) {
     // velocity_motion: the chord form, exact at w = 0
