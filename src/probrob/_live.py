@@ -345,7 +345,11 @@ def live_widget(
 {_asset("live.js")}
 {kernel_js}
 const config = {config_js};
-mountLiveWidget(document.getElementById("{wid}"), config, kernels[config.kernel]);
+// the script's own block (also when a front end runs it before the block is in the document,
+// as JupyterLab does), else the block with this id
+const script = document.currentScript;
+const root = (script && script.closest(".probrob-live")) || document.getElementById("{wid}");
+mountLiveWidget(root, config, kernels[config.kernel]);
 }})();
 </script>
 </div>""",
