@@ -408,3 +408,39 @@ def test_keyboard_moves_a_slider_and_redraws(page, index):
     shown = page.js(f"{root}.querySelector('input[type=number][data-param=a1]').value")
     assert float(shown) == pytest.approx(values["a1"])
     assert page.js(JS_CANVAS_HASH % index) != before
+
+
+JS_CONTROLS = """
+(async () => {
+  const root = document.querySelectorAll(".probrob-live")[0];
+  const w = probrobLive.widgets[0];
+  const frames = () => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
+  const out = {};
+  const number = root.querySelector("input[type=number][data-param=w]");
+  number.value = "-0.5";
+  number.dispatchEvent(new Event("change"));
+  await frames();
+  out.typed = [w.values().w, Number(root.querySelector("input[type=range][data-param=w]").value)];
+  number.value = "7";  // beyond the slider: clamped to its maximum
+  number.dispatchEvent(new Event("change"));
+  await frames();
+  out.clamped = [w.values().w, Number(number.value)];
+  const menu = root.querySelector("select[data-param=distribution]");
+  menu.value = "triangular";
+  menu.dispatchEvent(new Event("change"));
+  await frames();
+  out.chosen = w.values().distribution;
+  root.querySelector("[data-action=reset]").click();
+  out.reset = JSON.stringify(w.values()) === JSON.stringify(w.defaults());
+  out.shown = [number.value, menu.value];
+  return out;
+})()
+"""
+
+
+def test_number_box_menu_and_reset(page):
+    out = page.js(JS_CONTROLS)
+    assert out["typed"] == [-0.5, -0.5]
+    assert out["clamped"] == [2.0, 2.0]
+    assert out["chosen"] == "triangular"
+    assert out["reset"] and out["shown"] == ["0.8", "normal"]
