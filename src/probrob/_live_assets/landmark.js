@@ -35,11 +35,11 @@ kernels.landmark = {
         const dy = p.my - ys[i];
         const rHat = Math.hypot(dx, dy);
         const phiHat = wrapAngle(Math.atan2(dy, dx) - th);
-        let q = 1 * PROB.normal(p.r - rHat, s2r);
-        q = q * PROB.normal(wrapAngle(p.phi - phiHat), s2phi);
-        q = q * PROB.normal(p.s - p.ms, s2s);
-        // inf · 0: a point mass matched on one component, missed on another
-        out[i * nx + j] = Number.isNaN(q) ? 0 : q;
+        let logq = LOG_PROB.normal(p.r - rHat, s2r) + LOG_PROB.normal(wrapAngle(p.phi - phiHat), s2phi);
+        logq = logq + LOG_PROB.normal(p.s - p.ms, s2s);
+        // inf + (-inf): a point mass matched on one component, missed on another: 0
+        if (Number.isNaN(logq)) logq = -Infinity;
+        out[i * nx + j] = Math.exp(logq);
       }
     }
   },

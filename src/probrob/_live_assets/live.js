@@ -13,43 +13,77 @@
 //                          out[i*nx + j] at (xs[j], ys[i])) with the density; theta = heading(p)
 //   title(p)            -> string above the plot
 //   densityLabel(p)     -> string beside the colour bar
-// where p holds every slider and choice value by name, plus p.prob(a, b2), the zero-mean
-// density of Table 5.2 chosen by p.distribution (default "normal").
+// where p holds every slider and choice value by name, plus p.logProb(a, b2), the log of the
+// zero-mean density of Table 5.2 chosen by p.distribution (default "normal").
 
 const kernels = {};
 
 const TWO_PI = 2 * Math.PI;
 const SQRT6 = Math.sqrt(6);
 
-// numpy's round (half to even) and probrob.angles.wrap_angle, operation for operation.
+// numpy's round (half to even) and probrob.angles.wrap_angle, operation for operation: the
+// fast route below |θ| = 40, the exact remainder (fmod, JavaScript's %) above.
 function roundHalfEven(x) {
   let r = Math.round(x);
   if (r - x === 0.5 && r % 2 !== 0) r -= 1;
   return r;
 }
 function wrapAngle(t) {
-  let w = t - roundHalfEven(t * (1 / TWO_PI)) * TWO_PI;
-  if (w >= Math.PI) w -= TWO_PI;
-  return w;
+  let r;
+  if (Math.abs(t) < 40) {
+    r = t - roundHalfEven(t * (1 / TWO_PI)) * TWO_PI;
+  } else {
+    r = t % TWO_PI;
+  }
+  if (r >= Math.PI) r -= TWO_PI;
+  if (r < -Math.PI) r += TWO_PI;
+  return r;
 }
+// probrob.angles._diff: exact also when a - b overflows
 function angleDiff(a, b) {
-  return wrapAngle(a - b);
+  let d = a - b;
+  if (!Number.isFinite(d)) d = wrapAngle(a) - wrapAngle(b);
+  return wrapAngle(d);
 }
 function sinc(h) {
   return h !== 0 ? Math.sin(h) / h : 1;
 }
 
-// Table 5.2 as in probrob.distributions; a zero variance is a point mass.
-const PROB = {
+// Table 5.2 in log space, as probrob.distributions computes it (the linear density is its exp);
+// a zero variance is a point mass: +inf at a == 0, -inf elsewhere.
+const HALF_LOG_2PI = 0.5 * Math.log(2 * Math.PI);
+const LOG_PROB = {
   normal(a, b2) {
-    if (b2 > 0) return Math.exp(a * a * (-0.5 / b2)) / Math.sqrt(2 * Math.PI * b2);
-    return a === 0 ? Infinity : 0;
+    if (!(b2 > 0)) return a === 0 ? Infinity : -Infinity;
+    const b = Math.sqrt(b2);
+    let z = a / b;
+    z = z * z;
+    z *= -0.5;
+    z -= Math.log(b) + HALF_LOG_2PI;
+    return z;
   },
   triangular(a, b2) {
-    if (b2 > 0) return Math.max(1 / (SQRT6 * Math.sqrt(b2)) - Math.abs(a) * (1 / (6 * b2)), 0);
-    return a === 0 ? Infinity : 0;
+    if (!(b2 > 0)) return a === 0 ? Infinity : -Infinity;
+    const width = SQRT6 * Math.sqrt(b2); // half-width of the triangle
+    const t = Math.min(Math.abs(a) / width, 1);
+    let out = Math.log1p(-t); // -inf at and beyond the edge
+    out -= Math.log(width);
+    return out;
   },
 };
+
+// probrob.motion._log_product: the sum of the log factors, -inf if any is -inf (off a point
+// mass, also against a matched point mass's +inf).
+function logProduct(l0, l1, l2) {
+  let total = l0 + l1;
+  if (l2 !== undefined) total += l2;
+  if (l0 === -Infinity || l1 === -Infinity || l2 === -Infinity) return -Infinity;
+  return total;
+}
+// probrob.motion._minus_log_jacobian: a zero density over a zero Jacobian stays zero
+function minusLogJacobian(total, logJac) {
+  return total === -Infinity ? -Infinity : total - logJac;
+}
 
 // The variance of one noise term, as probrob.motion._noise_variance: a*m² + b*n² (+ c*o²) in the
 // "variance" form, (a|m| + b|n| (+ c|o|))² in the "std" form. Plain arguments, no arrays: it
@@ -62,12 +96,6 @@ function noiseVariance(noise, a, m, b, n, c, o) {
   let s = a * Math.abs(m) + b * Math.abs(n);
   if (c !== undefined) s = s + c * Math.abs(o);
   return s * s;
-}
-
-// Division by a Jacobian as probrob.motion._divide_by_jacobian.
-function divideByJacobian(p, jac) {
-  if (jac > 0) return p / jac;
-  return p > 0 ? Infinity : 0;
 }
 
 function decodeFloat64(b64) {
@@ -161,7 +189,7 @@ function mountLiveWidget(root, config, kernel) {
     // the "distribution" choice names both the draws and the density (default "normal")
     const family = p.distribution || "normal";
     p.family = family;
-    p.prob = PROB[family];
+    p.logProb = LOG_PROB[family];
     return p;
   }
 

@@ -10,9 +10,11 @@ function odometryDeltas(out, x, y, th, xn, yn, thn) {
   const dy = yn - y;
   const trans = Math.hypot(dx, dy);
   const rot1 = trans > 0 ? angleDiff(Math.atan2(dy, dx), th) : 0;
+  let turn = thn - th;
+  if (!Number.isFinite(turn)) turn = angleDiff(thn, th);
   out[0] = rot1;
   out[1] = trans;
-  out[2] = angleDiff(thn - th, rot1);
+  out[2] = angleDiff(turn, rot1);
   return out;
 }
 
@@ -78,9 +80,13 @@ kernels.odometry = {
           varT = this.varT(p, hat[0], hat[1], hat[2]);
           var2 = this.var2(p, hat[1], hat[2]);
         }
-        let q = p.prob(angleDiff(r1, hat[0]), var1) * p.prob(t - hat[1], varT);
-        if (p.density !== "xy") q = q * p.prob(angleDiff(r2, hat[2]), var2);
-        if (!book) q = divideByJacobian(q, hat[1]);
+        // in log space, as probrob.motion.motion_model_odometry
+        const l1 = p.logProb(angleDiff(r1, hat[0]), var1);
+        const lt = p.logProb(t - hat[1], varT);
+        let total =
+          p.density === "xy" ? logProduct(l1, lt) : logProduct(l1, lt, p.logProb(angleDiff(r2, hat[2]), var2));
+        if (!book) total = minusLogJacobian(total, Math.log(hat[1]));
+        const q = Math.exp(total);
         out[i * nx + j] = q;
       }
     }

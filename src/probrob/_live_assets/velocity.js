@@ -53,7 +53,8 @@ kernels.velocity = {
     const c = Math.cos(th);
     const s = Math.sin(th);
     // "xy" integrates the heading out; the library then ignores the hypothesis heading
-    const thn = p.density === "xy" ? th : thetaHyp;
+    const xy = p.density === "xy";
+    const thn = xy ? th : thetaHyp;
     const nx = xs.length;
     for (let i = 0; i < ys.length; i++) {
       for (let j = 0; j < nx; j++) {
@@ -74,14 +75,17 @@ kernels.velocity = {
         const vHat = (rho * ratio) / dt;
         const wHat = half * (2 / dt);
         const gamma = wrapAngle(thn - th - 2 * half) / dt;
-        let q = p.prob(p.v - vHat, varV) * p.prob(p.w - wHat, varW);
-        const jac = 0.5 * Math.abs(vHat) * dt ** 4 * sinc(half) ** 2;
-        if (p.density === "xy") {
-          q = divideByJacobian(q, jac / dt);
-        } else {
-          q = q * p.prob(gamma, varG);
-          if (p.density === "pose") q = divideByJacobian(q, jac);
+        // Table 5.1 in log space, as probrob.motion.motion_model_velocity
+        const lv = p.logProb(p.v - vHat, varV);
+        const lw = p.logProb(p.w - wHat, varW);
+        // "xy": the factor of γ̂ integrates to Δt over θ′, one Δt of the Jacobian
+        let total = xy ? logProduct(lv, lw) : logProduct(lv, lw, p.logProb(gamma, varG));
+        if (p.density !== "book") {
+          let logJac = Math.log(Math.abs(vHat));
+          logJac += 2 * Math.log(sinc(half)) + (Math.log(0.5) + (xy ? 3 : 4) * Math.log(dt));
+          total = minusLogJacobian(total, logJac);
         }
+        const q = Math.exp(total);
         out[i * nx + j] = q;
       }
     }
