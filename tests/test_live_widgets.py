@@ -265,9 +265,8 @@ VELOCITY_SETTINGS = {
 }
 
 
-@pytest.mark.parametrize("name", list(VELOCITY_SETTINGS))
-def test_velocity_widget_computes_what_probrob_computes(page, name):
-    state = _set(page, 0, VELOCITY_SETTINGS[name])
+def _velocity_reference(state):
+    """probrob's samples and density for the widget's state, fed the widget's draws."""
     p = state["values"]
     alpha = [p[f"a{k}"] for k in range(1, 7)]
     u, x_prev = [p["v"], p["w"]], [0.0, 0.0, p["theta"]]
@@ -275,7 +274,6 @@ def test_velocity_widget_computes_what_probrob_computes(page, name):
     samples = sample_motion_model_velocity(
         u, x_prev, p["dt"], alpha, sample=_replay(z), noise=p["noise"], size=N
     )
-    _assert_parity(state["particles"], samples, f"{name}: particles")
     density = motion_model_velocity(
         _hypotheses(state, p["density"]),
         u,
@@ -286,8 +284,16 @@ def test_velocity_widget_computes_what_probrob_computes(page, name):
         noise=p["noise"],
         density=p["density"],
     )
+    return samples, density
+
+
+@pytest.mark.parametrize("name", list(VELOCITY_SETTINGS))
+def test_velocity_widget_computes_what_probrob_computes(page, name):
+    state = _set(page, 0, VELOCITY_SETTINGS[name])
+    samples, density = _velocity_reference(state)
+    _assert_parity(state["particles"], samples, f"{name}: particles")
     _assert_parity(state["density"], density, f"{name}: density")
-    if any(alpha):  # the comparison is not vacuous: a cloud, and a density with mass
+    if any(state["values"][f"a{k}"] for k in range(1, 7)):  # not vacuous: a cloud, a density
         assert samples[:, :2].std(axis=0).min() > 1e-3
         assert np.isfinite(density).any() and np.nanmax(density) > 0
     else:
@@ -312,9 +318,7 @@ ODOMETRY_SETTINGS = {
 }
 
 
-@pytest.mark.parametrize("name", list(ODOMETRY_SETTINGS))
-def test_odometry_widget_computes_what_probrob_computes(page, name):
-    state = _set(page, 1, ODOMETRY_SETTINGS[name])
+def _odometry_reference(state):
     p = state["values"]
     alpha = [p[f"a{k}"] for k in range(1, 5)]
     origin = np.zeros(3)
@@ -324,7 +328,6 @@ def test_odometry_widget_computes_what_probrob_computes(page, name):
     samples = sample_motion_model_odometry(
         u, x_prev, alpha, sample=_replay(z), noise=p["noise"], size=N
     )
-    _assert_parity(state["particles"], samples, f"{name}: particles")
     density = motion_model_odometry(
         _hypotheses(state, p["density"]),
         u,
@@ -334,7 +337,17 @@ def test_odometry_widget_computes_what_probrob_computes(page, name):
         noise=p["noise"],
         density=p["density"],
     )
+    return samples, density
+
+
+@pytest.mark.parametrize("name", list(ODOMETRY_SETTINGS))
+def test_odometry_widget_computes_what_probrob_computes(page, name):
+    state = _set(page, 1, ODOMETRY_SETTINGS[name])
+    samples, density = _odometry_reference(state)
+    _assert_parity(state["particles"], samples, f"{name}: particles")
     _assert_parity(state["density"], density, f"{name}: density")
+    p = state["values"]
+    alpha = [p[f"a{k}"] for k in range(1, 5)]
     if any(alpha):
         assert samples[:, :2].std(axis=0).min() > 1e-3
     else:
@@ -354,9 +367,7 @@ LANDMARK_SETTINGS = {
 }
 
 
-@pytest.mark.parametrize("name", list(LANDMARK_SETTINGS))
-def test_landmark_widget_computes_what_probrob_computes(page, name):
-    state = _set(page, 2, LANDMARK_SETTINGS[name])
+def _landmark_reference(state):
     p = state["values"]
     f, m = [p["r"], p["phi"], p["s"]], [[0.0, 0.0, 1.0]]
     sigmas = [p["sr"], p["sphi"], p["ss"]]
@@ -365,12 +376,48 @@ def test_landmark_widget_computes_what_probrob_computes(page, name):
     poses = sample_landmark_model_known_correspondence(
         f, 0, m, sigmas, size=N, rng=g, sample=_replay(z[:2])
     )
-    _assert_parity(state["particles"], poses, f"{name}: poses")
     q = landmark_model_known_correspondence(f, 0, _hypotheses(state, "pose"), m, sigmas)
+    return poses, q
+
+
+@pytest.mark.parametrize("name", list(LANDMARK_SETTINGS))
+def test_landmark_widget_computes_what_probrob_computes(page, name):
+    state = _set(page, 2, LANDMARK_SETTINGS[name])
+    poses, q = _landmark_reference(state)
+    _assert_parity(state["particles"], poses, f"{name}: poses")
     _assert_parity(state["density"], q, f"{name}: likelihood")
-    assert np.ptp(np.hypot(poses[:, 0], poses[:, 1])) > 0.05 or p["sr"] == 0
-    if p["sr"] > 0:
+    sr = state["values"]["sr"]
+    assert np.ptp(np.hypot(poses[:, 0], poses[:, 1])) > 0.05 or sr == 0
+    if sr > 0:
         assert np.nanmax(q) > 0
+
+
+REFERENCES = {0: _velocity_reference, 1: _odometry_reference, 2: _landmark_reference}
+
+
+@pytest.mark.parametrize("index", [0, 1, 2])
+def test_widgets_compute_what_probrob_computes_anywhere_on_the_sliders(page, index):
+    """12 seeded random settings per widget: every slider uniform on its range (and at an
+    end with probability 1/5), every choice uniform."""
+    rng = np.random.default_rng(100 + index)
+    config = page.js(f"probrobLive.widgets[{index}].config()")
+    for trial in range(12):
+        values = {}
+        for s in config["sliders"]:
+            u = rng.random()
+            end = rng.random() < 0.2
+            values[s["name"]] = float(
+                (s["min"] if u < 0.5 else s["max"])
+                if end
+                else s["min"] + u * (s["max"] - s["min"])
+            )
+        for c in config["choices"]:
+            values[c["name"]] = str(rng.choice(c["options"]))
+        state = _set(page, index, values)
+        samples, density = REFERENCES[index](state)
+        what = f"widget {index}, trial {trial}, {values}"
+        _assert_parity(state["particles"], samples, f"{what}: particles")
+        _assert_parity(state["density"], density, f"{what}: density")
 
 
 @pytest.mark.parametrize("index", [0, 1, 2])

@@ -32,6 +32,7 @@ Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a pa
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
 
 * ``values()``, ``defaults()`` — the current and the initial parameter values by name;
+* ``config()`` — the sliders (name, value, min, max) and the choices (name, options);
 * ``set({name: value, ...}, refit)`` — set parameters (as the controls would), recompute and
   redraw synchronously (``refit``: fit the view to the new cloud), and return ``state()``;
 * ``state()`` — ``{values, n, nx, ny, markers, theta, view, xs, ys, particles, density,

@@ -469,6 +469,13 @@ function mountLiveWidget(root, config, kernel) {
     kernel: config.kernel,
     values: () => Object.assign({}, values),
     defaults: () => Object.assign({}, defaults),
+    config: () => ({
+      sliders: config.sliders,
+      choices: config.choices.map((c) => ({
+        name: c.name,
+        options: [...selects[c.name].options].map((o) => o.value),
+      })),
+    }),
     set(changes, refit) {
       for (const [name, v] of Object.entries(changes)) setValue(name, v);
       for (const name of Object.keys(changes)) show(name);
