@@ -450,3 +450,29 @@ def alpha_player(
             f"{values[0]:.3g} to {values[-1]:.3g} in {len(values)} frames"
         ),
     )
+
+
+# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live) ----------
+from ._live import (  # noqa: E402
+    Choice,
+    LiveWidget,
+    Slider,
+    landmark_draws,
+    landmark_model_live,
+    live_widget,
+    odometry_model_live,
+    standard_draws,
+    velocity_model_live,
+)
+
+__all__ += [
+    "Choice",
+    "LiveWidget",
+    "Slider",
+    "landmark_draws",
+    "landmark_model_live",
+    "live_widget",
+    "odometry_model_live",
+    "standard_draws",
+    "velocity_model_live",
+]
