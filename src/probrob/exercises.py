@@ -23,7 +23,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["check"]
+__all__ = ["check", "verdict"]
 
 
 def _compare(answer, expected, rtol, atol):
@@ -53,8 +53,8 @@ def check(
     rtol: float = 1e-6,
     atol: float = 0.0,
     hint: str | None = None,
-) -> bool:
-    """Print ``"<name>: correct"`` or ``"<name>: not yet — <what is wrong>"``; return the verdict.
+) -> None:
+    """Print ``"<name>: correct"`` or ``"<name>: not yet — <what is wrong>"``.
 
     Never raises: an answer that is missing (``None`` or ``...``), of the wrong type or
     shape, or that makes ``test`` fail or raise, is reported in the printed line.
@@ -78,8 +78,25 @@ def check(
 
     Returns
     -------
-    correct : bool
+    None
+        Nothing, so that a check as the last line of a cell shows only its message (a
+        trailing ``;`` does not silence a value under nbval). Use :func:`verdict` for
+        the message as a value.
     """
+    print(verdict(name, answer, expected, test=test, rtol=rtol, atol=atol, hint=hint))
+
+
+def verdict(
+    name: str,
+    answer,
+    expected=None,
+    *,
+    test: Callable | None = None,
+    rtol: float = 1e-6,
+    atol: float = 0.0,
+    hint: str | None = None,
+) -> str:
+    """Return the line that :func:`check` prints (same arguments); never raise."""
     if answer is None or answer is Ellipsis:
         problem = "no answer yet: replace the starting line with your answer"
     else:
@@ -96,7 +113,5 @@ def check(
         except Exception as exc:
             problem = f"checking the answer raised {type(exc).__name__}: {exc}"
     if problem is None:
-        print(f"{name}: correct")
-        return True
-    print(f"{name}: not yet — {problem}" + (f" (hint: {hint})" if hint else ""))
-    return False
+        return f"{name}: correct"
+    return f"{name}: not yet — {problem}" + (f" (hint: {hint})" if hint else "")
