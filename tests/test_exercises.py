@@ -55,18 +55,23 @@ def _outputs(cell):
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_every_exercise_starts_unsolved_and_has_a_collapsed_solution(path):
-    """Check cells print "not yet" (the book shows them unsolved); solution cells are
-    collapsed (hide-input) and print "correct" (nbval re-runs them and compares)."""
-    cells = nbformat.read(path, as_version=4).cells
-    checks = [c for c in cells if "exercise-check" in c.metadata.get("tags", [])]
-    solutions = [c for c in cells if "exercise-solution" in c.metadata.get("tags", [])]
-    assert len(checks) == len(solutions)
-    for cell in checks:
-        assert "not yet" in _outputs(cell), cell.source
-    for cell in solutions:
+    """Each solution cell (tag ``exercise-solution``) is collapsed (``hide-input``) and prints
+    "<Exercise>: correct" (nbval re-runs it and compares); an earlier cell, the check of the
+    reader's answer as shipped, prints "<Exercise>: not yet" (the book shows it unsolved)."""
+    cells = [c for c in nbformat.read(path, as_version=4).cells if c.cell_type == "code"]
+    for k, cell in enumerate(cells):
+        if "exercise-solution" not in cell.metadata.get("tags", []):
+            continue
         assert "hide-input" in cell.metadata["tags"], cell.source
         out = _outputs(cell)
-        assert out.strip() and "not yet" not in out and out.count(": correct") >= 1, cell.source
+        solved = [line.split(": correct")[0] for line in out.splitlines() if ": correct" in line]
+        assert solved and "not yet" not in out, cell.source
+        unsolved = [_outputs(c) for c in cells[:k]]
+        for name in solved:
+            assert any(f"{name}: not yet" in text for text in unsolved), (name, path.name)
+    for cell in cells:
+        if "exercise-check" in cell.metadata.get("tags", []):
+            assert "not yet" in _outputs(cell), cell.source
 
 
 def test_the_motion_chapter_has_at_least_five_exercises():

@@ -5,13 +5,18 @@ The book's exercise pattern (every chapter copies it):
 1. the task, in prose (a markdown cell);
 2. an **answer cell** that runs as shipped, with a starting line that fails the check,
    e.g. ``alpha_95 = None  # your answer``;
-3. a **check cell**, ``check("Exercise 3", alpha_95, test=...)``: it prints
-   ``Exercise 3: correct`` or what is wrong, and never raises, so that nbval and the book
-   build stay green while the exercise is unsolved;
+3. a **check cell** (tag ``exercise-check``), ``check("Exercise 3", alpha_95, test=...)``:
+   it prints ``Exercise 3: correct`` or what is wrong, and never raises, so that nbval and
+   the book build stay green while the exercise is unsolved (as shipped it prints
+   ``Exercise 3: not yet — ...``);
 4. the **solution**: a code cell tagged ``hide-input`` and ``exercise-solution`` (collapsed
    in the book) that computes the answer and calls the same check, which prints
    ``correct``. nbval re-runs it, so the tests prove that every exercise is solvable
-   (``tests/test_exercises.py`` also checks that every solution prints "correct").
+   (``tests/test_exercises.py`` also checks that every solution prints "correct", is
+   collapsed, and follows a check that prints "not yet" for the same exercise).
+
+``check`` returns nothing (a trailing ``;`` does not silence a value under nbval);
+:func:`verdict` returns the printed line.
 
 Prefer a ``test`` that checks a property of the answer (by calling the library) to an
 ``expected`` value written into the check cell, which would give the answer away.
