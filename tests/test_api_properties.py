@@ -551,6 +551,20 @@ API = [
         u_t=Arg(constant([1.0, 0.5]), [1.0, 0.5], bad_vectors(2)),
         skip_valid=True,
     ),
+    # the book's figure style, the diagrams of Tables 5.1 / 5.5 and the generic player (i9).
+    # use_book_style changes matplotlib's global settings: listed, never called here.
+    Api(plotting.book_style, "widget", skip_valid=True),
+    Api(plotting.use_book_style, "widget", skip_valid=True),
+    Api(plotting.plot_velocity_geometry, "plot", x_prev=POSE, x_t=POSE, dt=DT, examples=5),
+    Api(plotting.plot_odometry_deltas, "plot", xbar_prev=POSE, xbar_t=POSE, examples=5),
+    Api(
+        widgets.parameter_player,
+        "widget",
+        draw=Arg(constant(lambda ax, value: None), lambda ax, value: None, BAD_CALLABLE),
+        values=Arg(constant([0.0, 1.0]), [0.0, 1.0], [([], ValueError)]),
+        label=Arg(constant("x"), "x", [("", ValueError), (3, ValueError), (None, ValueError)]),
+        skip_valid=True,
+    ),
 ]
 
 # Invalid combinations that no single argument shows: (function, kwargs, names, exception).
