@@ -200,7 +200,7 @@ def _fmt(x: float) -> str:
 
 def _controls_html(wid: str, sliders, choices) -> str:
     e = html.escape
-    rows = []
+    rows = ['<div class="pl-sliders">']
     for s in sliders:
         rid = f"{wid}-{s.name}"
         attrs = (
@@ -212,6 +212,7 @@ def _controls_html(wid: str, sliders, choices) -> str:
             f'<input type="number" id="{rid}-n" data-param="{e(s.name)}" {attrs} '
             f'aria-label="{e(s.label)}, value"></div>'
         )
+    rows.append("</div>")
     for c in choices:
         cid = f"{wid}-{c.name}"
         options = "".join(
