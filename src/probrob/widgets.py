@@ -397,6 +397,8 @@ def alpha_player(
     player : IPython.display.HTML
     """
     alpha = check.finite(alpha, "alpha")
+    if alpha.ndim != 1 or np.any(alpha < 0):
+        raise ValueError(f"alpha must be non-negative noise parameters, got {alpha.tolist()}")
     values = check.finite(values, "values")
     if values.ndim != 1 or values.size == 0 or np.any(values < 0):
         raise ValueError("values must be a non-empty 1-D sequence of non-negative numbers")
