@@ -8,7 +8,7 @@ embeds a seeded set of *standardized draws* :math:`z` made by :mod:`probrob.dist
 * the sample cloud: the model's sampler with every noise term :math:`\varepsilon = b\,z`,
   :math:`b = \sqrt{b^2}`, the same arithmetic for the normal (sum of twelve uniforms) and
   the triangular sampler, so that a cloud for any :math:`\alpha` is the same draws rescaled;
-* the density on a grid (default 100 × 100) over the plot box;
+* the density on a grid (default 100 × 100) over the plot box (or a curve);
 
 and draws both on a ``<canvas>`` with markers (the start pose, the noise-free end pose, a
 landmark), axes and a colour bar. The JavaScript is a second implementation of the book's
@@ -38,7 +38,8 @@ itself in ``window.probrobLive.widgets`` (page order) as a handle with
   redraw synchronously (``refit``: fit the view to the new cloud), and return ``state()``;
 * ``state()`` — ``{values, n, nx, ny, markers, theta, view, xs, ys, particles, density,
   timings}``: the arrays as base64 of little-endian float64 (``particles`` is ``(n, 3)``,
-  ``density`` is ``(ny, nx)`` with ``density[i, j]`` at ``(xs[j], ys[i])``, ``theta`` the
+  or ``(n,)`` for a curve; ``density`` is ``(ny, nx)`` with ``density[i, j]`` at
+  ``(xs[j], ys[i])``, ``ny = 1`` for a curve; ``theta`` the
   hypothesis heading of densities taken at one heading) and the milliseconds of the last
   update (``compute``: particles and grid; ``draw``; ``total``);
 * ``draws(name)`` — one embedded array of draws, base64 float64 ``(k, n)``;
