@@ -27,7 +27,8 @@ shortest example). The Python function calls :func:`live_widget` with the kernel
 files are package data, read when a widget is made and inlined into its HTML. A model whose
 picture is a curve of one variable, such as the beam model's :math:`p(z \mid z^*)` with its
 six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histogram of its
-samples): :func:`distribution_live` (Table 5.2, ``distribution.js``) is the example.
+samples): :func:`beam_model_live` (``beam.js``) and :func:`distribution_live` (Table 5.2,
+``distribution.js``).
 
 Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
@@ -66,6 +67,7 @@ __all__ = [
     "Choice",
     "LiveWidget",
     "Slider",
+    "beam_model_live",
     "distribution_live",
     "landmark_draws",
     "landmark_model_live",
@@ -265,7 +267,8 @@ def live_widget(
     draws : dict of ndarray (k, n), optional
         Draws by name (``n = n_particles``): the kernel's ``sample`` gets the one named by the
         ``distribution`` choice and all of them; default :func:`standard_draws`
-        ``(n_particles, rng)``.
+        ``(n_particles, rng)``. A kernel that draws no samples takes ``{}`` and
+        ``n_particles=0``.
     constants : dict of float, optional
         Fixed parameters the kernel reads like slider values (e.g. a landmark's position).
     n_particles, grid, headings : int
@@ -284,13 +287,15 @@ def live_widget(
     except (FileNotFoundError, OSError) as exc:
         raise ValueError(f"kernel must name a file {_ASSETS}/<kernel>.js, got {kernel!r}") from exc
     for name, value, lo in (
-        ("n_particles", n_particles, 1),
+        ("n_particles", n_particles, 0),
         ("grid", grid, 2),
         ("headings", headings, 0),
     ):
         if not (isinstance(value, int | np.integer) and value >= lo):
             raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
     if draws is None:
+        if n_particles < 1:
+            raise ValueError(f"n_particles must be >= 1 with the default draws, got {n_particles}")
         draws = standard_draws(n_particles, rng)
     draws = {k: check.finite(v, f"draws[{k!r}]") for k, v in draws.items()}
     for k, v in draws.items():
@@ -311,7 +316,7 @@ def live_widget(
                 f"{c.name} must be one of {[v for v, _ in c.options]}, got {c.value!r}"
             )
     families = [v for c in choices if c.name == "distribution" for v, _ in c.options]
-    if not set(families or ["normal"]) <= set(draws):
+    if draws and not set(families or ["normal"]) <= set(draws):
         raise ValueError(f"every distribution needs its draws, have {sorted(draws)}")
 
     wid = f"probrob-live-{kernel}-{next(_COUNTER)}"
@@ -648,4 +653,78 @@ def distribution_live(*, b2=1.0, distribution="normal", n_particles=2000, grid=2
         n_particles=n_particles,
         grid=grid,
         rng=rng,
+    )
+
+
+def beam_model_live(
+    *,
+    z_star=5.0,
+    weights=(0.7, 0.15, 0.05, 0.1),
+    sigma_hit=0.2,
+    lambda_short=0.6,
+    max_range=10.0,
+    grid=400,
+) -> LiveWidget:
+    r"""Return a live widget of the beam model's :math:`p(z \mid z^*)` (Table 6.1, lines 5-6).
+
+    Sliders for the expected range :math:`z^*`, the four mixing weights
+    :math:`(z_{hit}, z_{short}, z_{max}, z_{rand})` (the widget divides them by their sum, as
+    the title shows), :math:`\sigma_{hit}` and :math:`\lambda_{short}`; the curve is
+    :func:`~probrob.sensors.beam_mixture` over :math:`[0, z_{max})` (the point mass at
+    :math:`z_{max}` has the weight :math:`z_{max}`). No samples: the library's sampler inverts
+    the normal CDF, which the page does not carry.
+
+    Parameters
+    ----------
+    z_star : float
+        Expected range, in [0, max_range].
+    weights : array_like, shape (4,)
+        Initial mixing weights, each in [0, 1] (normalised by their sum).
+    sigma_hit, lambda_short : float
+        In [0.01, 1] m and [0.05, 5] 1/m.
+    max_range : float
+        The sensor's maximum range, m (fixed).
+    grid : int
+        Points of the curve.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    zmax = check.positive_scalar(max_range, "max_range")
+    weights = check.finite(weights, "weights")
+    if weights.shape != (4,):
+        raise ValueError(f"weights must hold (z_hit, z_short, z_max, z_rand), got {weights.shape}")
+    names = ("whit", "wshort", "wmax", "wrand")
+    labels = ("z_hit", "z_short", "z_max", "z_rand")
+    sliders = [
+        Slider("zstar", "z* [m]", _in_range(z_star, "z_star", 0, zmax), 0.0, zmax, 0.01),
+        *(
+            Slider(n, lab, _in_range(w, f"weights[{k}]", 0, 1), 0.0, 1.0, 0.01)
+            for k, (n, lab, w) in enumerate(zip(names, labels, weights, strict=True))
+        ),
+        Slider("sigma", "σ_hit [m]", _in_range(sigma_hit, "sigma_hit", 0.01, 1), 0.01, 1.0, 0.01),
+        Slider(
+            "lambda",
+            "λ_short [1/m]",
+            _in_range(lambda_short, "lambda_short", 0.05, 5),
+            0.05,
+            5.0,
+            0.01,
+        ),
+    ]
+    return live_widget(
+        "beam",
+        sliders,
+        title="Beam model p(z | z*) (Table 6.1)",
+        caption=(
+            "Blue: the mixture z_hit p_hit + z_short p_short + z_rand p_rand of Table 6.1 over "
+            "[0, z_max), in 1/m; the weights are the sliders divided by their sum. The point "
+            "mass z_max at z = z_max is not drawn."
+        ),
+        aria_label="Plot of the beam model's density of a measured range z given the expected range.",
+        draws={},
+        constants={"zmax": zmax},
+        n_particles=0,
+        grid=grid,
     )
