@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from probrob._live import LiveWidget, landmark_draws, standard_draws
 from probrob.distributions import (
     prob_normal_distribution,
     prob_triangular_distribution,
@@ -40,14 +41,11 @@ from probrob.sensors import (
     sample_landmark_model_known_correspondence,
 )
 from probrob.widgets import (
-    LiveWidget,
     beam_model_live,
     distribution_live,
-    landmark_draws,
     landmark_model_live,
     live_widget,
     odometry_model_live,
-    standard_draws,
     velocity_model_live,
 )
 

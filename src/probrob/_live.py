@@ -157,9 +157,8 @@ def standard_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
     draws : dict
         ``{"normal": ndarray (3, n), "triangular": ndarray (3, n)}``.
     """
-    if not (isinstance(n, int | np.integer) and n >= 1):
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    rng = np.random.default_rng(rng)
+    n = check.count(n, "n", 1)
+    rng = check.rng(rng)
     return {
         name: sampler(1.0, size=(3, int(n)), rng=rng)
         for name, (_, sampler) in DISTRIBUTIONS.items()
@@ -188,9 +187,8 @@ def landmark_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
     draws : dict
         ``{"normal": ndarray (3, n), "gamma": ndarray (1, n)}``.
     """
-    if not (isinstance(n, int | np.integer) and n >= 1):
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    rng = np.random.default_rng(rng)
+    n = check.count(n, "n", 1)
+    rng = check.rng(rng)
     z = sample_normal_distribution(1.0, size=(3, int(n)), rng=rng)
     return {"normal": z, "gamma": rng.uniform(0.0, 2.0 * np.pi, size=(1, int(n)))}
 
@@ -286,13 +284,9 @@ def live_widget(
         kernel_js = _asset(f"{kernel}.js")
     except (FileNotFoundError, OSError) as exc:
         raise ValueError(f"kernel must name a file {_ASSETS}/<kernel>.js, got {kernel!r}") from exc
-    for name, value, lo in (
-        ("n_particles", n_particles, 0),
-        ("grid", grid, 2),
-        ("headings", headings, 0),
-    ):
-        if not (isinstance(value, int | np.integer) and value >= lo):
-            raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
+    n_particles = check.count(n_particles, "n_particles", 0)
+    grid = check.count(grid, "grid", 2)
+    headings = check.count(headings, "headings", 0)
     if draws is None:
         if n_particles < 1:
             raise ValueError(f"n_particles must be >= 1 with the default draws, got {n_particles}")
@@ -369,6 +363,8 @@ mountLiveWidget(root, config, kernels[config.kernel]);
 
 def _alpha_sliders(alpha, count):
     alpha = check.alphas(alpha, "alpha", count)
+    if np.any(alpha > 0.5):
+        raise ValueError(f"alpha must lie in [0, 0.5] (the sliders' range), got {alpha.tolist()}")
     return [
         Slider(f"a{k + 1}", f"α{k + 1}", float(alpha[k]), 0.0, 0.5, 0.001) for k in range(count)
     ]
@@ -391,10 +387,7 @@ def _common_choices(distribution, noise, density):
 
 
 def _in_range(value, name, lo, hi):
-    value = check.finite(value, name)
-    if value.ndim != 0 or not lo <= value <= hi:
-        raise ValueError(f"{name} must be a number in [{lo}, {hi}], got {value!r}")
-    return float(value)
+    return check.in_range(value, name, lo, hi)
 
 
 def velocity_model_live(
@@ -571,10 +564,14 @@ def landmark_model_live(
     -------
     widget : LiveWidget
     """
+    n_particles = check.count(n_particles, "n_particles", 1)
     sigmas = check.finite(sigmas, "sigmas")
     if sigmas.shape != (3,):
         raise ValueError(f"sigmas must hold (σ_r, σ_φ, σ_s), got shape {sigmas.shape}")
-    mx, my, ms = check.vectors(landmark, "landmark", 3, "x, y, s")
+    landmark = check.vectors(landmark, "landmark", 3, "x, y, s")
+    if landmark.shape != (3,):
+        raise ValueError(f"landmark must be one row (x, y, s), got shape {landmark.shape}")
+    mx, my, ms = landmark
     sliders = [
         Slider("r", "r [m]", _in_range(r, "r", 0, 5), 0.0, 5.0, 0.01),
         Slider("phi", "φ [rad]", _in_range(phi, "phi", -3.14, 3.14), -3.14, 3.14, 0.01),
