@@ -1,24 +1,97 @@
-"""Input checks shared by the library: clear ``ValueError`` messages naming the argument."""
+r"""The one validation layer of probrob: every public function checks its input here.
+
+Rules (the book's *conventions* page, section "What the library accepts"):
+
+* bad input raises ``ValueError`` whose message names the argument (and its value or shape);
+  complex input raises ``TypeError`` naming the argument, never a silent cast to real;
+* the batch (leading) shapes of all array arguments are checked together, up front, by
+  :func:`batch_shape`, so a mismatch names every argument and its shape;
+* ``rng`` goes through :func:`rng` (``None``, a non-negative int, a
+  :class:`numpy.random.SeedSequence` or a :class:`numpy.random.Generator`), ``size`` through
+  :func:`size_shape` (an int or a tuple of ints);
+* a computation that overflows float64 although every input was finite is reported by
+  :func:`no_overflow` against the caller's own arguments, never as ``OverflowError``,
+  ``RuntimeWarning`` or an internal variable name.
+
+Typical use in a library function::
+
+    from . import _validation as check
+
+
+    def my_model(x, u, alpha, *, size=None, rng=None):
+        x = check.poses(x, "x")  # (..., 3), finite, real
+        u = check.vectors(u, "u", 2, "v, omega")
+        alpha = check.alphas(alpha, "alpha", 4)  # (4,), finite, >= 0
+        batch = check.batch_shape(x=x.shape[:-1], u=u.shape[:-1])
+        shape = check.output_shape(batch, size)
+        gen = check.rng(rng)
+        ...
+        check.no_overflow(result, "my_model's result", x=x, u=u)
+
+All helpers return numpy ``float64`` arrays (or Python scalars where stated) and never modify
+their argument.
+"""
 
 from __future__ import annotations
 
+import operator
+
 import numpy as np
+
+_REAL_KINDS = "biuf"  # bool, signed and unsigned integers, floats
+
+
+# --------------------------------------------------------------------------- arrays
 
 
 def as_float_array(value, name: str) -> np.ndarray:
-    """Return ``value`` as a float array, or raise ``ValueError`` naming ``name``."""
+    """Return ``value`` as a ``float64`` array (no copy if it already is one).
+
+    Raises ``TypeError`` naming ``name`` for complex input (``np.asarray(z, float)`` would
+    silently drop the imaginary part), and ``ValueError`` naming ``name`` for anything that is
+    not numeric (``None``, strings, ragged nested lists, objects).
+    """
     try:
-        arr = np.asarray(value, dtype=float)
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged nesting
+        raise ValueError(f"{name} must be numeric array_like, got {value!r}") from exc
+    kind = arr.dtype.kind
+    if kind == "c":
+        raise TypeError(f"{name} must be real, got complex input {value!r}")
+    if kind in _REAL_KINDS:
+        return arr.astype(float, copy=False)
+    if kind == "O":
+        if any(isinstance(item, complex) for item in arr.flat):
+            raise TypeError(f"{name} must be real, got complex input {value!r}")
+        if any(item is None for item in arr.flat):
+            raise ValueError(f"{name} must be numeric array_like, got {value!r}")
+    if kind != "O":  # strings, bytes, datetimes, structured arrays
+        raise ValueError(f"{name} must be numeric array_like, got {value!r}")
+    try:
+        return arr.astype(float)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be numeric array_like, got {value!r}") from exc
-    return arr
+
+
+array = as_float_array
+
+
+def all_finite(arr: np.ndarray) -> bool:
+    """Whether every entry of a float array is finite (fast: one reduction in the common case)."""
+    if arr.size == 0:
+        return True
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = np.add.reduce(arr, axis=None)
+    # A finite sum proves every entry finite; an infinite one may be a sum that overflowed.
+    return bool(np.isfinite(total)) or bool(np.isfinite(arr).all())
 
 
 def finite(value, name: str) -> np.ndarray:
     """Return a finite float array; NaN or ±inf raise ``ValueError`` naming ``name``."""
     arr = as_float_array(value, name)
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    if not all_finite(arr):
+        bad = float(arr[~np.isfinite(arr)].flat[0])
+        raise ValueError(f"{name} must be finite (no NaN or inf), got {bad!r} in it")
     return arr
 
 
@@ -47,6 +120,16 @@ def poses(value, name: str) -> np.ndarray:
     return vectors(value, name, 3, "x, y, theta")
 
 
+def single_pose(value, name: str) -> np.ndarray:
+    """Return one finite pose, shape ``(3,)`` exactly (e.g. for drawing a single arrow)."""
+    arr = finite(value, name)
+    if arr.shape != (3,):
+        raise ValueError(
+            f"{name} must be one pose (x, y, theta) of shape (3,), got shape {arr.shape}"
+        )
+    return arr
+
+
 def alphas(value, name: str, count: int) -> np.ndarray:
     """Return ``count`` finite, non-negative noise parameters as a ``(count,)`` array."""
     arr = finite(value, name)
@@ -65,9 +148,34 @@ def positive_scalar(value, name: str) -> float:
     return float(arr)
 
 
+def in_range(value, name: str, lo: float, hi: float) -> float:
+    """Return a finite float scalar in the closed interval ``[lo, hi]`` (never clamped)."""
+    arr = finite(value, name)
+    if arr.ndim != 0 or not lo <= arr <= hi:
+        raise ValueError(f"{name} must be a number in [{lo}, {hi}], got {value!r}")
+    return float(arr)
+
+
+def count(value, name: str, minimum: int = 0) -> int:
+    """Return an integer ``>= minimum`` (a bool or a float such as 2.7 is rejected, not truncated)."""
+    if isinstance(value, bool | np.bool_):
+        raise ValueError(f"{name} must be an integer, got {value!r}")
+    try:
+        n = operator.index(value)
+    except TypeError as exc:
+        raise ValueError(f"{name} must be an integer, got {value!r}") from exc
+    if n < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return n
+
+
 def choice(value, name: str, options: tuple[str, ...]) -> str:
     """Return ``value`` if it is one of ``options``."""
-    if value not in options:
+    try:
+        ok = value in options
+    except TypeError:  # e.g. an unhashable or array-valued argument
+        ok = False
+    if not ok or not isinstance(value, str):
         raise ValueError(f"{name} must be one of {options}, got {value!r}")
     return value
 
@@ -79,23 +187,66 @@ def callable_arg(value, name: str):
     return value
 
 
-def size_shape(size) -> tuple[int, ...] | None:
-    """Normalise a numpy-style ``size`` argument to a shape tuple (or ``None``)."""
+def scalar_or_array(arr: np.ndarray):
+    """Return a Python float for a 0-d array, the array otherwise (scalars in, scalars out)."""
+    arr = np.asarray(arr)
+    return float(arr) if arr.ndim == 0 else arr
+
+
+# --------------------------------------------------------------------------- shapes
+
+
+def batch_shape(**shapes: tuple[int, ...]) -> tuple[int, ...]:
+    """Return the broadcast of the named batch shapes, or raise naming each argument.
+
+    ``batch_shape(x_t=x_t.shape[:-1], u_t=u_t.shape[:-1])``: call it before any arithmetic,
+    so that a mismatch says which arguments disagree instead of numpy's "operands could not
+    be broadcast together" from deep inside.
+    """
+    try:
+        return np.broadcast_shapes(*shapes.values())
+    except ValueError:
+        listed = ", ".join(f"{name} {tuple(shape)}" for name, shape in shapes.items())
+        raise ValueError(
+            f"the batch shapes of the arguments do not broadcast together: {listed} "
+            "(leading axes must be equal or 1, as in numpy broadcasting)"
+        ) from None
+
+
+def size_shape(size, name: str = "size") -> tuple[int, ...] | None:
+    """Normalise a numpy-style ``size`` (None, an int, or a tuple of ints) to a shape tuple.
+
+    Floats (``2.7``), bools and strings are rejected, not truncated.
+    """
     if size is None:
         return None
-    shape = (size,) if np.isscalar(size) else tuple(size)
+    if isinstance(size, bool | np.bool_ | str | bytes):
+        raise ValueError(f"{name} must be None, an int or a tuple of ints, got {size!r}")
     try:
-        shape = tuple(int(n) for n in shape)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"size must be None, an int or a tuple of ints, got {size!r}") from exc
+        shape = (operator.index(size),)
+    except TypeError:
+        try:
+            items = tuple(size)
+        except TypeError:
+            items = None
+        if items is None or any(isinstance(n, bool | np.bool_) for n in items):
+            raise ValueError(
+                f"{name} must be None, an int or a tuple of ints, got {size!r}"
+            ) from None
+        try:
+            shape = tuple(operator.index(n) for n in items)
+        except TypeError:
+            raise ValueError(
+                f"{name} must be None, an int or a tuple of ints, got {size!r}"
+            ) from None
     if any(n < 0 for n in shape):
-        raise ValueError(f"size must not be negative, got {size!r}")
+        raise ValueError(f"{name} must not be negative, got {size!r}")
     return shape
 
 
-def output_shape(batch: tuple[int, ...], size) -> tuple[int, ...]:
+def output_shape(batch: tuple[int, ...], size, name: str = "size") -> tuple[int, ...]:
     """Shape of a sampler's output: ``size`` if given (``batch`` must broadcast to it)."""
-    shape = size_shape(size)
+    shape = size_shape(size, name)
     if shape is None:
         return batch
     try:
@@ -103,11 +254,148 @@ def output_shape(batch: tuple[int, ...], size) -> tuple[int, ...]:
     except ValueError:
         full = None
     if full != shape:
-        raise ValueError(f"size {shape} is not compatible with the input batch shape {batch}")
+        raise ValueError(f"{name} {shape} is not compatible with the input batch shape {batch}")
     return shape
 
 
-def scalar_or_array(arr: np.ndarray):
-    """Return a Python float for a 0-d array, the array otherwise (scalars in, scalars out)."""
-    arr = np.asarray(arr)
-    return float(arr) if arr.ndim == 0 else arr
+# --------------------------------------------------------------------------- randomness
+
+
+def rng(value, name: str = "rng") -> np.random.Generator:
+    """Return a ``numpy.random.Generator`` for ``value``.
+
+    Accepted: ``None`` (fresh OS entropy), a non-negative int seed, a
+    :class:`numpy.random.SeedSequence`, or a :class:`numpy.random.Generator` (returned as is,
+    so successive calls continue its stream). Anything else raises ``ValueError`` naming
+    ``rng``.
+    """
+    if value is None or isinstance(value, np.random.SeedSequence):
+        return np.random.default_rng(value)
+    if isinstance(value, np.random.Generator):
+        return value
+    if isinstance(value, int | np.integer) and not isinstance(value, bool | np.bool_):
+        if value < 0:
+            raise ValueError(f"{name} must be a non-negative int seed, got {value!r}")
+        return np.random.default_rng(int(value))
+    raise ValueError(
+        f"{name} must be None, a non-negative int, a numpy.random.SeedSequence or a "
+        f"numpy.random.Generator, got {value!r}"
+    )
+
+
+def sample_output(value, name: str, shape: tuple[int, ...]) -> np.ndarray:
+    """Check what a user's ``sample`` callable returned: real numbers broadcastable to ``shape``.
+
+    Any real dtype is accepted and returned as ``float64`` (a copy only if it is not float64
+    already). The caller must not modify the result in place unless it made the copy itself.
+    """
+    try:
+        arr = as_float_array(value, f"the value returned by {name}")
+    except TypeError as exc:
+        raise TypeError(f"{name} must return real numbers: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"{name} must return real numbers: {exc}") from None
+    try:
+        full = np.broadcast_shapes(arr.shape, shape)
+    except ValueError:
+        full = None
+    if full != shape:
+        raise ValueError(
+            f"{name} returned shape {arr.shape}, which does not broadcast to the requested "
+            f"size {shape}"
+        )
+    return arr
+
+
+# --------------------------------------------------------------------------- overflow
+
+
+def _extremeness(value) -> float:
+    """How far from 1 the most extreme non-zero magnitude in ``value`` is, in decades."""
+    mags = np.abs(np.asarray(value, dtype=float)).ravel()
+    mags = mags[(mags > 0) & np.isfinite(mags)]
+    return float(np.max(np.abs(np.log10(mags)))) if mags.size else 0.0
+
+
+def _show(value) -> str:
+    arr = np.asarray(value)
+    if arr.ndim == 0:
+        return repr(float(arr)) if arr.dtype.kind == "f" else repr(value)
+    return np.array2string(arr, precision=6, threshold=12)
+
+
+def overflow_error(what: str, index=None, **arguments) -> ValueError:
+    """The ``ValueError`` for a float64 overflow in ``what``, blaming the caller's arguments.
+
+    ``arguments`` maps the caller's argument names to the values involved (already indexed
+    at the offending batch element, if any). The argument with the most extreme magnitude
+    (largest or smallest in decades) is named as the culprit; all are listed.
+    """
+    culprit = max(arguments, key=lambda k: _extremeness(arguments[k]))
+    where = "" if index is None or index == () else f" (batch element {index})"
+    listed = ", ".join(f"{name} = {_show(value)}" for name, value in arguments.items())
+    return ValueError(
+        f"{culprit} = {_show(arguments[culprit])} is out of range: {what} overflows "
+        f"float64{where}; got {listed}"
+    )
+
+
+def no_overflow(values, what: str, **arguments) -> None:
+    """Raise :func:`overflow_error` if ``values`` (computed from finite input) is not finite.
+
+    ``arguments`` are the caller's own (validated) arguments that ``values`` was computed
+    from, by the names the caller used; the message names the most extreme of them and
+    shows all, with the batch index of the first non-finite entry of ``values``.
+    """
+    values = np.asarray(values)
+    if all_finite(values):
+        return
+    index = tuple(int(i) for i in np.argwhere(~np.isfinite(values))[0])
+    raise overflow_error(what, index, **arguments)
+
+
+def callable_result(value, name: str) -> np.ndarray:
+    """Check an array returned by a user's callable (e.g. ``prob``): real, numeric, no NaN."""
+    try:
+        arr = as_float_array(value, f"the value returned by {name}")
+    except TypeError as exc:
+        raise TypeError(f"{name} must return real numbers: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"{name} must return real numbers: {exc}") from None
+    if np.isnan(arr).any():
+        raise ValueError(f"{name} returned NaN")
+    return arr
+
+
+__all__ = [
+    "alphas",
+    "array",
+    "as_float_array",
+    "batch_shape",
+    "callable_arg",
+    "callable_result",
+    "choice",
+    "count",
+    "finite",
+    "flag",
+    "in_range",
+    "no_overflow",
+    "output_shape",
+    "overflow_error",
+    "poses",
+    "positive_scalar",
+    "rng",
+    "sample_output",
+    "scalar_or_array",
+    "single_pose",
+    "size_shape",
+    "variance",
+    "vectors",
+]
+
+
+def flag(value, name: str) -> bool:
+    """Return ``value`` if it is a bool (``True``/``False``, numpy bools too)."""
+    if not isinstance(value, bool | np.bool_):
+        raise ValueError(f"{name} must be True or False, got {value!r}")
+    return bool(value)

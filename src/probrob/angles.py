@@ -5,18 +5,66 @@ rotation) goes through this module, so that :math:`\theta = \pi - 0.01` and
 :math:`\theta = -\pi + 0.01` are 0.02 rad apart, not :math:`2\pi - 0.02`.
 
 All functions preserve the shape of their input and return a Python ``float`` for a
-scalar input.
+scalar input. They accept every finite float: the wrap is an exact floating-point
+remainder by :math:`2\pi` (the double nearest to it), so the result lies in
+:math:`[-\pi, \pi)` however large the input, and an angle already in that range is
+returned unchanged, bit for bit. NaN and :math:`\pm\infty` have no direction and raise
+``ValueError``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._validation import scalar_or_array
+from . import _validation as check
 
 __all__ = ["angle_diff", "circular_mean", "wrap_angle"]
 
 _TWO_PI = 2.0 * np.pi
+
+
+# Below this magnitude the fast wrap θ - 2π·round(θ / 2π) is exact: 2π has a 50-bit
+# mantissa, so k·2π is exact for |k| <= 7, and θ - k·2π is exact by Sterbenz's lemma (both
+# within a factor of two). Larger angles take the (slower) exact remainder ``fmod``.
+_FAST_LIMIT = 40.0
+
+
+def _wrap_fmod(theta: np.ndarray) -> np.ndarray:
+    r = np.fmod(theta, _TWO_PI)  # exact, in (-2π, 2π), sign of θ
+    np.subtract(r, _TWO_PI, out=r, where=r >= np.pi)  # exact (Sterbenz)
+    np.add(r, _TWO_PI, out=r, where=r < -np.pi)
+    return r
+
+
+def _wrap(theta: np.ndarray) -> np.ndarray:
+    """``wrap_angle`` of a finite float array, unchecked (for the library's inner loops).
+
+    The result is the exact remainder of θ by the double ``2π`` moved into ``[-π, π)``
+    (``fmod`` is exact, and moving its result by one turn is exact by Sterbenz's lemma), so
+    it never leaves the range and θ in range comes back unchanged. Angles below
+    ``_FAST_LIMIT`` in magnitude take a faster route to the same bits.
+    """
+    theta = np.asarray(theta)
+    turns = np.round(theta * (1.0 / _TWO_PI))
+    turns *= _TWO_PI
+    r = np.atleast_1d(np.subtract(theta, turns))
+    r[r >= np.pi] -= _TWO_PI
+    if r.size and r.min() < -np.pi:  # round() one turn too far (θ / 2π just below k + ½)
+        r[r < -np.pi] += _TWO_PI
+    r = r.reshape(theta.shape)
+    if theta.size and not (theta.min() > -_FAST_LIMIT and theta.max() < _FAST_LIMIT):
+        big = np.abs(theta) >= _FAST_LIMIT
+        r[big] = _wrap_fmod(theta[big])
+    return r
+
+
+def _diff(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``angle_diff`` of finite float arrays, unchecked; exact when ``a - b`` overflows too."""
+    with np.errstate(over="ignore"):
+        d = np.subtract(a, b)
+    if not check.all_finite(d):  # |a - b| beyond 1.8e308: reduce each first
+        d = np.subtract(_wrap(np.asarray(a)), _wrap(np.asarray(b)))
+    return _wrap(d)
 
 
 def wrap_angle(theta):
@@ -25,23 +73,22 @@ def wrap_angle(theta):
     Parameters
     ----------
     theta : array_like, any shape
-        Angles in radians.
+        Angles in radians, finite (any magnitude).
 
     Returns
     -------
     wrapped : float or ndarray, same shape as ``theta``
-        ``theta + 2πk`` for the integer ``k`` that puts it in ``[-π, π)``.
-        ``π`` itself maps to ``-π``.
+        ``theta - 2πk`` for the integer ``k`` that puts it in ``[-π, π)``, with ``2π``
+        the float64 nearest to it and the subtraction exact. ``π`` itself maps to
+        ``-π``; angles already in range are returned unchanged.
+
+    Raises
+    ------
+    ValueError
+        If ``theta`` is NaN, infinite or not numeric (``TypeError`` if complex).
     """
-    theta = np.asarray(theta, dtype=float)
-    # θ - 2π·round(θ / 2π) is θ itself for |θ| < π (no rounding error in range) and
-    # lands in [-π, π]; the closed end π is then moved to -π.
-    turns = np.round(theta * (1.0 / _TWO_PI))
-    turns *= _TWO_PI
-    wrapped = np.atleast_1d(np.subtract(theta, turns))
-    wrapped[wrapped >= np.pi] -= _TWO_PI
-    wrapped = wrapped.reshape(theta.shape)
-    return scalar_or_array(wrapped)
+    theta = check.finite(theta, "theta")
+    return check.scalar_or_array(_wrap(theta))
 
 
 def angle_diff(a, b):
@@ -50,14 +97,17 @@ def angle_diff(a, b):
     Parameters
     ----------
     a, b : array_like, broadcastable
-        Angles in radians.
+        Angles in radians, finite.
 
     Returns
     -------
     diff : float or ndarray, broadcast shape of ``a`` and ``b``
         The signed rotation that takes ``b`` to ``a`` by the shorter way.
     """
-    return wrap_angle(np.subtract(np.asarray(a, dtype=float), np.asarray(b, dtype=float)))
+    a = check.finite(a, "a")
+    b = check.finite(b, "b")
+    check.batch_shape(a=a.shape, b=b.shape)
+    return check.scalar_or_array(_diff(a, b))
 
 
 def circular_mean(theta, weights=None, axis=None):
@@ -71,9 +121,10 @@ def circular_mean(theta, weights=None, axis=None):
     Parameters
     ----------
     theta : array_like
-        Angles in radians.
+        Angles in radians, finite; at least one along ``axis``.
     weights : array_like, optional
-        Non-negative weights, broadcastable to ``theta``; default equal weights.
+        Non-negative weights, broadcastable to ``theta``; default equal weights. Along
+        ``axis`` they must not all be zero.
     axis : int, optional
         Axis to average over; default all.
 
@@ -83,14 +134,35 @@ def circular_mean(theta, weights=None, axis=None):
         ``theta`` reduced over ``axis``. When the resultant vector is exactly zero
         (e.g. two opposite angles) the mean is undefined and 0 is returned, which
         is ``atan2(0, 0)``.
+
+    Raises
+    ------
+    ValueError
+        If there is nothing to average (``theta`` empty along ``axis``), the weights are
+        negative, not finite or sum to zero, or ``axis`` is not an axis of ``theta``.
     """
-    theta = np.asarray(theta, dtype=float)
+    theta = check.finite(theta, "theta")
+    if axis is not None:
+        if isinstance(axis, bool) or not isinstance(axis, int | np.integer):
+            raise ValueError(f"axis must be None or an int, got {axis!r}")
+        if not -theta.ndim <= axis < theta.ndim:
+            raise ValueError(f"axis {axis} is out of range for theta of shape {theta.shape}")
+    if theta.size == 0 or (axis is not None and theta.shape[axis] == 0):
+        raise ValueError(f"theta must hold at least one angle to average, got shape {theta.shape}")
     if weights is None:
         weights = np.ones_like(theta)
     else:
-        weights = np.broadcast_to(np.asarray(weights, dtype=float), theta.shape)
-        if np.any(weights < 0) or not np.all(np.isfinite(weights)):
+        weights = check.finite(weights, "weights")
+        try:
+            weights = np.broadcast_to(weights, theta.shape)
+        except ValueError:
+            raise ValueError(
+                f"weights of shape {weights.shape} do not broadcast to theta's shape {theta.shape}"
+            ) from None
+        if np.any(weights < 0):
             raise ValueError("weights must be finite and non-negative")
+        if np.any(np.sum(weights, axis=axis) == 0):
+            raise ValueError("weights sum to zero: the mean of nothing is undefined")
     s = np.sum(weights * np.sin(theta), axis=axis)
     c = np.sum(weights * np.cos(theta), axis=axis)
-    return wrap_angle(np.arctan2(s, c))
+    return check.scalar_or_array(_wrap(np.arctan2(s, c)))

@@ -23,6 +23,13 @@ Conventions (see the book's *conventions* page):
   :math:`\alpha_1 |v| + \alpha_2 |\omega|` is a standard deviation.
 * ``density="book"``: the tables' value, a density over the noise variables.
   ``density="pose"``: a density over :math:`(x', y', \theta')`, which integrates to one.
+* ``log=True`` returns the log density, computed in log space (sums of log factors).
+* Degenerate noise: a zero variance makes its factor a point mass (``prob(a, 0)`` is
+  ``inf`` at ``a == 0`` and ``0`` elsewhere). A product with a ``0`` factor is ``0`` (the
+  hypothesis is off the support of that point mass, whatever the other factors are);
+  otherwise a product with an ``inf`` factor is ``inf`` (on the support: a Dirac delta).
+  Dividing by a zero Jacobian (the robot stays in place) gives ``inf`` for a positive
+  density and ``0`` for a zero one. In log space: ``-inf`` wins over ``+inf``. Never NaN.
 
 The velocity model is written in the robot frame of :math:`x_{t-1}`. With the
 displacement :math:`(a, b)` of :math:`x_t` ahead of and to the left of the robot, the
@@ -40,8 +47,13 @@ from collections.abc import Callable
 import numpy as np
 
 from . import _validation as check
-from .angles import angle_diff, wrap_angle
-from .distributions import prob_normal_distribution, sample_normal_distribution
+from .angles import _diff, _wrap
+from .distributions import (
+    _log_prob,
+    _returns_fresh,
+    prob_normal_distribution,
+    sample_normal_distribution,
+)
 
 __all__ = [
     "apply_odometry_deltas",
@@ -114,13 +126,60 @@ def _arc(x, y, th, v, w, dt, out=None):
 def _velocity_controls(alpha, u_t, noise):
     v, w = _unpack(u_t)
     a1, a2, a3, a4, a5, a6 = alpha
-    return (
-        v,
-        w,
-        _noise_variance(a1, a2, v, w, noise),
-        _noise_variance(a3, a4, v, w, noise),
-        _noise_variance(a5, a6, v, w, noise),
-    )
+    with np.errstate(over="ignore", invalid="ignore"):
+        variances = (
+            _noise_variance(a1, a2, v, w, noise),
+            _noise_variance(a3, a4, v, w, noise),
+            _noise_variance(a5, a6, v, w, noise),
+        )
+    for k, var in enumerate(variances):
+        check.no_overflow(
+            var, f"the noise variance of Table 5.1 with alpha{2 * k + 1}", alpha=alpha, u_t=u_t
+        )
+    return (v, w, *variances)
+
+
+def _log_product(logs, careful: bool):
+    """Sum of log factors; where any factor is ``-inf`` (off a point mass) the sum is ``-inf``.
+
+    ``careful=False`` promises that no factor is ``+inf`` (no zero variance, a library
+    density), so no ``-inf + inf`` can arise and the mask is skipped.
+    """
+    with np.errstate(invalid="ignore"):
+        total = np.add(logs[0], logs[1])
+        for term in logs[2:]:
+            total = np.add(total, term, out=total if isinstance(total, np.ndarray) else None)
+    if careful:
+        off = np.zeros(np.shape(total), dtype=bool)
+        for term in logs:
+            off |= np.asarray(term) == -np.inf
+        total = np.where(off, -np.inf, total)
+    return total
+
+
+def _minus_log_jacobian(total, log_jac):
+    """``total - log_jac``, where a zero Jacobian (``-inf``) of a zero density stays ``-inf``.
+
+    A positive density over a zero Jacobian is ``+inf`` (all the mass of a set of noise
+    values lands on one pose).
+    """
+    with np.errstate(invalid="ignore"):
+        out = np.subtract(total, log_jac)
+    if np.min(log_jac, initial=0.0) == -np.inf:
+        out = np.where(np.asarray(total) == -np.inf, -np.inf, out)
+    return out
+
+
+def _any_zero(*variances) -> bool:
+    return any(not np.all(var) for var in variances)
+
+
+def _finish(total, log: bool):
+    """The log density, or its ``exp`` (``inf`` beyond 1.8e308: a near point mass)."""
+    if log:
+        return check.scalar_or_array(total)
+    with np.errstate(over="ignore"):
+        return check.scalar_or_array(np.exp(total))
 
 
 # --------------------------------------------------------------------------- velocity
@@ -159,9 +218,13 @@ def velocity_motion(x_prev, u_t, dt):
     x_prev = check.poses(x_prev, "x_prev")
     u_t = check.vectors(u_t, "u_t", 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
+    check.batch_shape(x_prev=x_prev.shape[:-1], u_t=u_t.shape[:-1])
     x, y, th = _unpack(x_prev)
     v, w = _unpack(u_t)
-    return _stack(*_arc(x, y, th, v, w, dt))
+    with np.errstate(over="ignore", invalid="ignore"):
+        x_t = _stack(*_arc(x, y, th, v, w, dt))
+    check.no_overflow(x_t, "the motion x_prev -> x_t", x_prev=x_prev, u_t=u_t, dt=dt)
+    return x_t
 
 
 def _sinc_derivative(h):
@@ -219,23 +282,26 @@ def velocity_motion_jacobians(x_prev, u_t, dt):
     x_prev = check.poses(x_prev, "x_prev")
     u_t = check.vectors(u_t, "u_t", 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
+    batch = check.batch_shape(x_prev=x_prev.shape[:-1], u_t=u_t.shape[:-1])
     th = _unpack(x_prev)[2]
     v, w = _unpack(u_t)
-    h = w * (0.5 * dt)
-    sinc, dsinc = _sinc(h), _sinc_derivative(h)
-    mid = th + h
-    c, s = np.cos(mid), np.sin(mid)
-    batch = np.broadcast_shapes(th.shape, v.shape)
-    G = np.zeros((*batch, 3, 3))
-    G[..., 0, 0] = G[..., 1, 1] = G[..., 2, 2] = 1.0
-    G[..., 0, 2] = -v * dt * sinc * s
-    G[..., 1, 2] = v * dt * sinc * c
-    V = np.zeros((*batch, 3, 2))
-    V[..., 0, 0] = dt * sinc * c
-    V[..., 1, 0] = dt * sinc * s
-    V[..., 0, 1] = 0.5 * v * dt**2 * (dsinc * c - sinc * s)
-    V[..., 1, 1] = 0.5 * v * dt**2 * (dsinc * s + sinc * c)
-    V[..., 2, 1] = dt
+    with np.errstate(over="ignore", invalid="ignore"):
+        h = w * (0.5 * dt)
+        sinc, dsinc = _sinc(h), _sinc_derivative(h)
+        mid = th + h
+        c, s = np.cos(mid), np.sin(mid)
+        G = np.zeros((*batch, 3, 3))
+        G[..., 0, 0] = G[..., 1, 1] = G[..., 2, 2] = 1.0
+        G[..., 0, 2] = -v * dt * sinc * s
+        G[..., 1, 2] = v * dt * sinc * c
+        V = np.zeros((*batch, 3, 2))
+        V[..., 0, 0] = dt * sinc * c
+        V[..., 1, 0] = dt * sinc * s
+        V[..., 0, 1] = 0.5 * v * (dt * dt) * (dsinc * c - sinc * s)
+        V[..., 1, 1] = 0.5 * v * (dt * dt) * (dsinc * s + sinc * c)
+        V[..., 2, 1] = dt
+    for name, value in (("G", G), ("V", V)):
+        check.no_overflow(value, f"the Jacobian {name}", x_prev=x_prev, u_t=u_t, dt=dt)
     return G, V
 
 
@@ -276,29 +342,37 @@ def _invert_velocity(x_t, x_prev, dt):
     if not all_moved:
         # Rotation in place (x', y' = x, y): every ω̂ reaches the position. Take the
         # limit of arcs with v̂ → 0, on which the whole turn is ω̂ Δt and γ̂ = 0.
-        half = np.where(moved, half, 0.5 * np.asarray(angle_diff(thn, th)))
+        half = np.where(moved, half, 0.5 * _diff(thn, th))
         ratio = np.where(moved, ratio, 0.0)
     v_hat = rho * ratio
     v_hat /= dt
     w_hat = half * (2.0 / dt)
     turn = np.subtract(thn, th)
+    if not check.all_finite(turn):  # headings 1e308 apart: reduce each first
+        turn = _diff(thn, th)
     turn -= 2.0 * half
-    gamma_hat = np.asarray(wrap_angle(turn)) / dt
+    gamma_hat = _wrap(turn) / dt
     return v_hat, w_hat, gamma_hat, half
 
 
-def _velocity_jacobian_abs(v_hat, half, dt):
-    r"""``|det ∂(x', y', θ') / ∂(v̂, ω̂, γ̂)|`` for the velocity model.
+def _velocity_log_jacobian(v_hat, half, dt, power: int = 4):
+    r"""``log |det ∂(x', y', θ') / ∂(v̂, ω̂, γ̂)|`` for the velocity model.
 
     :math:`\Delta t \cdot |\hat v| \Delta t^3 (1 - \cos\hat\omega\Delta t) /
     (\hat\omega\Delta t)^2 = \tfrac12 |\hat v| \Delta t^4\,
-    \mathrm{sinc}^2(\hat\omega\Delta t / 2)`.
+    \mathrm{sinc}^2(\hat\omega\Delta t / 2)`, in log space (no overflow for any
+    :math:`\Delta t`; ``-inf`` where :math:`\hat v = 0`). ``power=3`` drops one factor
+    :math:`\Delta t` (the ``"xy"`` density). :math:`|\hat\omega\Delta t / 2| \le \pi/2`,
+    so the sinc is at least :math:`2/\pi`.
     """
-    return 0.5 * np.abs(v_hat) * dt**4 * _sinc(half) ** 2
+    with np.errstate(divide="ignore"):
+        out = np.log(np.abs(v_hat))
+    out += 2.0 * np.log(_sinc(half)) + (np.log(0.5) + power * np.log(dt))
+    return out
 
 
-def _hypotheses(x_t, x_prev, density: str) -> np.ndarray:
-    """Check ``x_t``; for ``density="xy"`` positions ``(..., 2)`` get a dummy heading."""
+def _check_hypotheses(x_t, density: str) -> np.ndarray:
+    """Check ``x_t``: poses ``(..., 3)``, or for ``density="xy"`` also positions ``(..., 2)``."""
     if density != "xy":
         return check.poses(x_t, "x_t")
     x_t = check.finite(x_t, "x_t")
@@ -306,15 +380,15 @@ def _hypotheses(x_t, x_prev, density: str) -> np.ndarray:
         raise ValueError(
             f"x_t must have shape (..., 3) or, for density='xy', (..., 2); got {x_t.shape}"
         )
+    return x_t
+
+
+def _hypotheses(x_t, x_prev) -> np.ndarray:
+    """Positions ``(..., 2)`` get the heading of ``x_prev`` (ignored by ``density="xy"``)."""
     if x_t.shape[-1] == 3:
         return x_t
     x, y = _unpack(x_t)
     return _stack(x, y, _unpack(x_prev)[2])
-
-
-def _divide_by_jacobian(p, jac):
-    safe = np.where(jac > 0, jac, 1.0)
-    return np.where(jac > 0, p / safe, np.where(p > 0, np.inf, 0.0))
 
 
 def motion_model_velocity(
@@ -327,6 +401,7 @@ def motion_model_velocity(
     prob: Callable = prob_normal_distribution,
     noise: str = "variance",
     density: str = "book",
+    log: bool = False,
 ):
     r"""Return :math:`p(x_t \mid u_t, x_{t-1})` of the velocity motion model.
 
@@ -380,31 +455,57 @@ def motion_model_velocity(
         :math:`\hat\gamma` integrates to one over :math:`\theta'`, leaving
         :math:`\mathrm{prob}(v - \hat v)\,\mathrm{prob}(\omega - \hat\omega) /
         (\tfrac12 |\hat v| \Delta t^3 \mathrm{sinc}^2(\hat\omega\Delta t / 2))`.
+    log : bool, optional
+        Return the log density, computed as a sum of log factors (``prob`` is called
+        with ``log=True`` if it takes that keyword).
 
     Returns
     -------
     p : float or ndarray, shape broadcast(...)
-        Density values.
+        Density values (or their logs).
+
+    Notes
+    -----
+    Degenerate noise (a zero variance, e.g. :math:`v = \omega = 0` or some
+    :math:`\alpha_i = 0`) makes a factor a point mass: the density is ``0`` where the
+    hypothesis needs noise in a direction that has none, and ``inf`` (a Dirac delta) where
+    it needs none, e.g. at :math:`x_t = x_{t-1}` for a robot at rest. For ``"pose"`` and
+    ``"xy"`` a zero Jacobian (:math:`\hat v = 0`) gives ``inf`` where the book value is
+    positive and ``0`` where it is ``0``. Never NaN; see the module docstring.
     """
     x_prev = check.poses(x_prev, "x_prev")
     check.choice(density, "density", _DENSITIES)
-    x_t = _hypotheses(x_t, x_prev, density)
+    x_t = _check_hypotheses(x_t, density)
     u_t = check.vectors(u_t, "u_t", 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
     alpha = check.alphas(alpha, "alpha", 6)
     check.callable_arg(prob, "prob")
     check.choice(noise, "noise", _NOISE_FORMS)
+    log = check.flag(log, "log")
+    check.batch_shape(x_t=x_t.shape[:-1], u_t=u_t.shape[:-1], x_prev=x_prev.shape[:-1])
+    x_t = _hypotheses(x_t, x_prev)
+    log_prob, exact = _log_prob(prob)
 
     v, w, var_v, var_w, var_g = _velocity_controls(alpha, u_t, noise)
-    v_hat, w_hat, gamma_hat, half = _invert_velocity(x_t, x_prev, dt)
-    p = prob(v - v_hat, var_v) * prob(w - w_hat, var_w)
-    if density == "xy":  # ∫ prob(γ̂) dθ' = Δt, one factor Δt of the Jacobian
-        p = _divide_by_jacobian(p, _velocity_jacobian_abs(v_hat, half, dt) / dt)
-    else:
-        p = p * prob(gamma_hat, var_g)
-    if density == "pose":
-        p = _divide_by_jacobian(p, _velocity_jacobian_abs(v_hat, half, dt))
-    return check.scalar_or_array(p)
+    with np.errstate(over="ignore", invalid="ignore"):
+        v_hat, w_hat, gamma_hat, half = _invert_velocity(x_t, x_prev, dt)
+    for hat in (v_hat, w_hat, gamma_hat):
+        check.no_overflow(
+            hat, "the velocities that move x_prev to x_t", x_t=x_t, x_prev=x_prev, dt=dt
+        )
+    with np.errstate(over="ignore"):  # an overflowing difference is a density of 0, exactly
+        a_v, a_w = v - v_hat, w - w_hat
+    if not exact:  # a user's prob gets finite arguments only
+        for a in (a_v, a_w):
+            check.no_overflow(a, "u_t - (v̂, ω̂)", u_t=u_t, x_t=x_t, x_prev=x_prev, dt=dt)
+    logs = [log_prob(a_v, var_v), log_prob(a_w, var_w)]
+    if density != "xy":  # "xy": ∫ prob(γ̂) dθ' = Δt, one factor Δt of the Jacobian
+        logs.append(log_prob(gamma_hat, var_g))
+    total = _log_product(logs, careful=not exact or _any_zero(var_v, var_w, var_g))
+    if density != "book":
+        power = 3 if density == "xy" else 4
+        total = _minus_log_jacobian(total, _velocity_log_jacobian(v_hat, half, dt, power))
+    return _finish(total, log)
 
 
 def sample_motion_model_velocity(
@@ -466,34 +567,54 @@ def sample_motion_model_velocity(
     alpha = check.alphas(alpha, "alpha", 6)
     check.callable_arg(sample, "sample")
     check.choice(noise, "noise", _NOISE_FORMS)
-    shape = check.output_shape(np.broadcast_shapes(u_t.shape[:-1], x_prev.shape[:-1]), size)
-    rng = np.random.default_rng(rng)
+    batch = check.batch_shape(u_t=u_t.shape[:-1], x_prev=x_prev.shape[:-1])
+    shape = check.output_shape(batch, size)
+    rng = check.rng(rng)
 
     v, w, var_v, var_w, var_g = _velocity_controls(alpha, u_t, noise)
     # The variances broadcast to ``size`` inside the sampler (numpy's convention), so a
     # single command costs one scalar, not an array of a million equal variances.
-    v_hat = v + sample(var_v, size=shape, rng=rng)
-    w_hat = w + sample(var_w, size=shape, rng=rng)
-    gamma_hat = sample(var_g, size=shape, rng=rng)
+    draws = [
+        check.sample_output(sample(var, size=shape, rng=rng), "sample", shape)
+        for var in (var_v, var_w, var_g)
+    ]
     out = np.empty((*shape, 3))
-    _arc(*_unpack(x_prev), v_hat, w_hat, dt, out=out)
-    gamma_hat *= dt
-    out[..., 2] += gamma_hat
+    with np.errstate(over="ignore", invalid="ignore"):
+        v_hat = v + draws[0]
+        w_hat = w + draws[1]
+        _arc(*_unpack(x_prev), v_hat, w_hat, dt, out=out)
+        gamma_hat = draws[2]
+        if _returns_fresh(sample) and gamma_hat.shape == shape and gamma_hat.base is None:
+            gamma_hat *= dt  # our own sampler's fresh array: scale it in place
+        else:  # never modify what a user's callable returned
+            gamma_hat = gamma_hat * dt
+        out[..., 2] += gamma_hat
+    check.no_overflow(out, "the sampled motion", u_t=u_t, x_prev=x_prev, dt=dt, alpha=alpha)
     return out
 
 
 # --------------------------------------------------------------------------- odometry
 
 
-def _deltas(prev: np.ndarray, new: np.ndarray):
+def _deltas(prev: np.ndarray, new: np.ndarray, **names):
+    """``(rot1, trans, rot2)`` from ``prev`` to ``new`` (checked arrays).
+
+    ``names`` are the caller's arguments the poses came from, for the message if the
+    translation overflows (poses more than 1.8e308 apart).
+    """
     x, y, th = _unpack(prev)
     xn, yn, thn = _unpack(new)
-    dx, dy = xn - x, yn - y
+    with np.errstate(over="ignore"):
+        dx, dy = xn - x, yn - y
+        turn = thn - th
     trans = np.hypot(dx, dy)
+    check.no_overflow(trans, "the translation between the two poses", **names)
     # With no translation the direction of travel is undefined; the whole turn is
     # then δrot2 (δrot1 = 0), the exact limit of a pure rotation in place.
-    rot1 = np.where(trans > 0, angle_diff(np.arctan2(dy, dx), th), 0.0)
-    rot2 = angle_diff(thn - th, rot1)
+    rot1 = np.where(trans > 0, _diff(np.arctan2(dy, dx), th), 0.0)
+    if not check.all_finite(turn):  # headings more than 1.8e308 apart
+        turn = _diff(thn, th)
+    rot2 = _diff(turn, rot1)
     return np.asarray(rot1), trans, np.asarray(rot2)
 
 
@@ -523,7 +644,9 @@ def odometry_deltas(xbar_prev, xbar_t):
     """
     xbar_prev = check.poses(xbar_prev, "xbar_prev")
     xbar_t = check.poses(xbar_t, "xbar_t")
-    return tuple(check.scalar_or_array(d) for d in _deltas(xbar_prev, xbar_t))
+    check.batch_shape(xbar_prev=xbar_prev.shape[:-1], xbar_t=xbar_t.shape[:-1])
+    deltas = _deltas(xbar_prev, xbar_t, xbar_prev=xbar_prev, xbar_t=xbar_t)
+    return tuple(check.scalar_or_array(d) for d in deltas)
 
 
 def _apply_deltas(x, y, th, rot1, trans, rot2):
@@ -554,30 +677,46 @@ def apply_odometry_deltas(x_prev, rot1, trans, rot2):
     x_t : ndarray, shape broadcast(...) + (3,)
         End poses; :math:`\theta'` is not wrapped.
     """
-    x, y, th = _unpack(check.poses(x_prev, "x_prev"))
+    x_prev = check.poses(x_prev, "x_prev")
     rot1 = check.finite(rot1, "rot1")
     trans = check.finite(trans, "trans")
     rot2 = check.finite(rot2, "rot2")
-    return _stack(*_apply_deltas(x, y, th, rot1, trans, rot2))
+    check.batch_shape(
+        x_prev=x_prev.shape[:-1], rot1=rot1.shape, trans=trans.shape, rot2=rot2.shape
+    )
+    with np.errstate(over="ignore", invalid="ignore"):
+        x_t = _stack(*_apply_deltas(*_unpack(x_prev), rot1, trans, rot2))
+    check.no_overflow(
+        x_t, "the motion x_prev -> x_t", x_prev=x_prev, rot1=rot1, trans=trans, rot2=rot2
+    )
+    return x_t
 
 
-def _odometry_control(u_t) -> tuple[np.ndarray, ...]:
+def _odometry_control(u_t) -> np.ndarray:
     u_t = check.finite(u_t, "u_t")
     if u_t.ndim < 2 or u_t.shape[-2:] != (2, 3):
         raise ValueError(
             "u_t must have shape (..., 2, 3): the odometry poses (xbar_{t-1}, xbar_t), "
             f"got shape {u_t.shape}"
         )
-    return _deltas(u_t[..., 0, :], u_t[..., 1, :])
+    return u_t
 
 
-def _odometry_variances(alpha, rot1, trans, rot2, noise):
+def _odometry_deltas_of(u_t):
+    return _deltas(u_t[..., 0, :], u_t[..., 1, :], u_t=u_t)
+
+
+def _odometry_variances(alpha, rot1, trans, rot2, noise, **names):
     a1, a2, a3, a4 = alpha
-    return (
-        _noise_variance(a1, a2, rot1, trans, noise),
-        _noise_variance(a3, a4, trans, rot1, noise, a4, rot2),
-        _noise_variance(a1, a2, rot2, trans, noise),
-    )
+    with np.errstate(over="ignore", invalid="ignore"):
+        variances = (
+            _noise_variance(a1, a2, rot1, trans, noise),
+            _noise_variance(a3, a4, trans, rot1, noise, a4, rot2),
+            _noise_variance(a1, a2, rot2, trans, noise),
+        )
+    for var in variances:
+        check.no_overflow(var, "the noise variance of Table 5.5", alpha=alpha, **names)
+    return variances
 
 
 def motion_model_odometry(
@@ -589,6 +728,7 @@ def motion_model_odometry(
     prob: Callable = prob_normal_distribution,
     noise: str = "variance",
     density: str = "book",
+    log: bool = False,
 ):
     r"""Return :math:`p(x_t \mid u_t, x_{t-1})` of the odometry motion model.
 
@@ -635,31 +775,52 @@ def motion_model_odometry(
         Fig. 5.7), in 1/m²: :math:`p_1 p_2 / \hat\delta_{trans}`, since :math:`p_3`
         integrates to one over :math:`\theta'`. ``x_t`` may be positions
         ``(..., 2)``.
+    log : bool, optional
+        Return the log density, computed as a sum of log factors.
 
     Returns
     -------
     p : float or ndarray, shape broadcast(...)
-        Density values.
+        Density values (or their logs).
+
+    Notes
+    -----
+    Degenerate noise (a zero variance, e.g. an odometry that reports no motion, or
+    :math:`\delta_{rot1} = \delta_{trans} = 0` for a rotation in place) makes a factor a
+    point mass: the density is ``0`` where the hypothesis needs noise in a direction that
+    has none and ``inf`` where it needs none. For ``"pose"`` and ``"xy"`` a zero Jacobian
+    (:math:`\hat\delta_{trans} = 0`) gives ``inf`` for a positive density and ``0`` for a
+    zero one. Never NaN; see the module docstring.
     """
     x_prev = check.poses(x_prev, "x_prev")
     check.choice(density, "density", _DENSITIES)
-    x_t = _hypotheses(x_t, x_prev, density)
-    rot1, trans, rot2 = _odometry_control(u_t)
+    x_t = _check_hypotheses(x_t, density)
+    u_t = _odometry_control(u_t)
     alpha = check.alphas(alpha, "alpha", 4)
     check.callable_arg(prob, "prob")
     check.choice(noise, "noise", _NOISE_FORMS)
+    log = check.flag(log, "log")
+    check.batch_shape(x_t=x_t.shape[:-1], u_t=u_t.shape[:-2], x_prev=x_prev.shape[:-1])
+    x_t = _hypotheses(x_t, x_prev)
+    log_prob, exact = _log_prob(prob)
 
-    rot1_hat, trans_hat, rot2_hat = _deltas(x_prev, x_t)
+    rot1, trans, rot2 = _odometry_deltas_of(u_t)
+    rot1_hat, trans_hat, rot2_hat = _deltas(x_prev, x_t, x_t=x_t, x_prev=x_prev)
     if density == "book":
-        var1, var_t, var2 = _odometry_variances(alpha, rot1_hat, trans_hat, rot2_hat, noise)
+        var1, var_t, var2 = _odometry_variances(
+            alpha, rot1_hat, trans_hat, rot2_hat, noise, x_t=x_t, x_prev=x_prev
+        )
     else:
-        var1, var_t, var2 = _odometry_variances(alpha, rot1, trans, rot2, noise)
-    p = prob(angle_diff(rot1, rot1_hat), var1) * prob(trans - trans_hat, var_t)
+        var1, var_t, var2 = _odometry_variances(alpha, rot1, trans, rot2, noise, u_t=u_t)
+    logs = [log_prob(_diff(rot1, rot1_hat), var1), log_prob(trans - trans_hat, var_t)]
     if density != "xy":
-        p = p * prob(angle_diff(rot2, rot2_hat), var2)
+        logs.append(log_prob(_diff(rot2, rot2_hat), var2))
+    total = _log_product(logs, careful=not exact or _any_zero(var1, var_t, var2))
     if density != "book":
-        p = _divide_by_jacobian(p, trans_hat)
-    return check.scalar_or_array(p)
+        with np.errstate(divide="ignore"):
+            log_jac = np.log(trans_hat)
+        total = _minus_log_jacobian(total, log_jac)
+    return _finish(total, log)
 
 
 def sample_motion_model_odometry(
@@ -710,20 +871,27 @@ def sample_motion_model_odometry(
     x_t : ndarray, shape size + (3,)
         Sampled poses; :math:`\theta'` is not wrapped.
     """
-    rot1, trans, rot2 = _odometry_control(u_t)
+    u_t = _odometry_control(u_t)
     x_prev = check.poses(x_prev, "x_prev")
     alpha = check.alphas(alpha, "alpha", 4)
     check.callable_arg(sample, "sample")
     check.choice(noise, "noise", _NOISE_FORMS)
-    shape = check.output_shape(np.broadcast_shapes(rot1.shape, x_prev.shape[:-1]), size)
-    rng = np.random.default_rng(rng)
+    batch = check.batch_shape(u_t=u_t.shape[:-2], x_prev=x_prev.shape[:-1])
+    shape = check.output_shape(batch, size)
+    rng = check.rng(rng)
 
-    var1, var_t, var2 = _odometry_variances(alpha, rot1, trans, rot2, noise)
-    rot1_hat = rot1 - sample(var1, size=shape, rng=rng)
-    trans_hat = trans - sample(var_t, size=shape, rng=rng)
-    rot2_hat = rot2 - sample(var2, size=shape, rng=rng)
+    rot1, trans, rot2 = _odometry_deltas_of(u_t)
+    variances = _odometry_variances(alpha, rot1, trans, rot2, noise, u_t=u_t)
+    draws = [
+        check.sample_output(sample(var, size=shape, rng=rng), "sample", shape) for var in variances
+    ]
     out = np.empty((*shape, 3))
-    out[..., 0], out[..., 1], out[..., 2] = _apply_deltas(
-        *_unpack(x_prev), rot1_hat, trans_hat, rot2_hat
-    )
+    with np.errstate(over="ignore", invalid="ignore"):
+        rot1_hat = rot1 - draws[0]
+        trans_hat = trans - draws[1]
+        rot2_hat = rot2 - draws[2]
+        out[..., 0], out[..., 1], out[..., 2] = _apply_deltas(
+            *_unpack(x_prev), rot1_hat, trans_hat, rot2_hat
+        )
+    check.no_overflow(out, "the sampled motion", u_t=u_t, x_prev=x_prev, alpha=alpha)
     return out

@@ -189,12 +189,16 @@ def plot_distribution(prob, b2, *, samples=None, ax=None, bins=60, label=None, c
     -------
     ax : matplotlib.axes.Axes
     """
-    ax = _axes(ax)
+    check.callable_arg(prob, "prob")
     b = np.sqrt(check.positive_scalar(b2, "b2"))
+    bins = check.count(bins, "bins", 1)
+    if samples is not None:
+        samples = check.finite(samples, "samples")
+    ax = _axes(ax)
     a = np.linspace(-4.5 * b, 4.5 * b, 601)
     if samples is not None:
         ax.hist(
-            np.asarray(samples).ravel(),
+            samples.ravel(),
             bins=bins,
             range=(a[0], a[-1]),
             density=True,
@@ -215,8 +219,9 @@ def plot_pose(pose, ax=None, *, length=0.15, color="k", label=None):
     -------
     ax : matplotlib.axes.Axes
     """
+    x, y, th = check.single_pose(pose, "pose")
+    length = check.positive_scalar(length, "length")
     ax = _axes(ax)
-    x, y, th = check.poses(pose, "pose")
     ax.plot([x], [y], "o", color=color, ms=5, label=label)
     ax.annotate(
         "",
@@ -239,8 +244,13 @@ def plot_samples(
     -------
     ax : matplotlib.axes.Axes
     """
-    ax = _axes(ax)
     poses = check.finite(poses, "poses")
+    if poses.ndim != 2 or poses.shape[1] not in (2, 3):
+        raise ValueError(f"poses must have shape (N, 3) or (N, 2), got shape {poses.shape}")
+    n_headings = check.count(n_headings, "n_headings", 0)
+    if n_headings and poses.shape[1] != 3:
+        raise ValueError("n_headings > 0 needs poses with headings, shape (N, 3)")
+    ax = _axes(ax)
     ax.scatter(poses[..., 0], poses[..., 1], s=s, color=color, alpha=alpha, lw=0, label=label)
     if n_headings:
         x, y, th = (poses.reshape(-1, 3)[:n_headings, k] for k in range(3))
@@ -280,8 +290,19 @@ def plot_density_xy(
     -------
     ax : matplotlib.axes.Axes
     """
+    xs = check.finite(xs, "xs")
+    ys = check.finite(ys, "ys")
+    p = check.as_float_array(p, "p")
+    if xs.ndim != 1 or ys.ndim != 1 or p.shape != (ys.size, xs.size):
+        raise ValueError(
+            f"p must have shape (len(ys), len(xs)) = ({ys.size}, {xs.size}) for 1-D xs and ys, "
+            f"got p {p.shape}, xs {xs.shape}, ys {ys.shape}"
+        )
+    if np.isnan(p).any() or (p < 0).any():
+        raise ValueError("p must be a density: no NaN, no negative values")
+    if vmax is not None:
+        vmax = check.positive_scalar(vmax, "vmax")
     ax = _axes(ax)
-    p = np.asarray(p, dtype=float)
     if vmax is None:
         finite = p[np.isfinite(p)]
         vmax = np.percentile(finite, 99.5) if finite.size and finite.max() > 0 else 1.0
@@ -301,10 +322,24 @@ def motion_extent(points, *, include=(), pad=0.15, min_size=0.5):
     of ``include`` (e.g. the start and end poses), padded by ``pad`` of its size on
     each side. Use one extent for all frames of a sweep so that they are comparable.
     """
-    pts = check.finite(points, "points")[..., :2].reshape(-1, 2)
+    pts = check.finite(points, "points")
+    if pts.ndim < 1 or pts.shape[-1] < 2 or pts.size == 0:
+        raise ValueError(
+            f"points must hold at least one point, shape (N, 2) or (N, 3); got shape {pts.shape}"
+        )
+    pts = pts[..., :2].reshape(-1, 2)
+    pad = check.finite(pad, "pad")
+    min_size = check.finite(min_size, "min_size")
+    if pad.ndim or pad < 0 or min_size.ndim or min_size < 0:
+        raise ValueError(f"pad and min_size must be numbers >= 0, got {pad!r}, {min_size!r}")
     lo, hi = np.percentile(pts, 0.5, axis=0), np.percentile(pts, 99.5, axis=0)
     if len(include):
-        extra = check.finite(include, "include")[..., :2].reshape(-1, 2)
+        extra = check.finite(include, "include")
+        if extra.shape[-1] < 2:
+            raise ValueError(
+                f"include must hold points (..., 2) or poses (..., 3), got {extra.shape}"
+            )
+        extra = extra[..., :2].reshape(-1, 2)
         lo, hi = np.minimum(lo, extra.min(axis=0)), np.maximum(hi, extra.max(axis=0))
     centre = (lo + hi) / 2
     half = max(float(np.max(hi - lo)) / 2 * (1 + 2 * pad), min_size / 2)
@@ -361,9 +396,10 @@ def motion_samples(
     The arguments are those of :func:`plot_motion_model`.
     """
     check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
+    n = check.count(n, "n", 0)
     prob, sample = DISTRIBUTIONS[distribution]
     end, _, draw = _model_calls(model, u_t, x_prev, alpha, dt, noise, prob, sample)
-    return draw(n, np.random.default_rng(rng)), end
+    return draw(n, check.rng(rng)), end
 
 
 def plot_motion_model(
@@ -432,12 +468,21 @@ def plot_motion_model(
     -------
     ax : matplotlib.axes.Axes
     """
-    ax = _axes(ax)
     check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
     prob, sample = DISTRIBUTIONS[distribution]
-    x_prev = check.poses(x_prev, "x_prev")
+    x_prev = check.single_pose(x_prev, "x_prev")
+    n_samples = check.count(n_samples, "n_samples", 0)
+    n_headings = check.count(n_headings, "n_headings", 0)
+    grid = check.count(grid, "grid", 2)
+    if extent is not None:
+        extent = check.finite(extent, "extent")
+        if extent.shape != (4,) or not (extent[0] < extent[1] and extent[2] < extent[3]):
+            raise ValueError(
+                f"extent must be (x0, x1, y0, y1) with x0 < x1, y0 < y1, got {extent}"
+            )
     end, density, draw = _model_calls(model, u_t, x_prev, alpha, dt, noise, prob, sample)
-    samples = draw(max(int(n_samples), 1), np.random.default_rng(rng))  # also sets the box
+    samples = draw(max(n_samples, 1), check.rng(rng))  # also sets the box
+    ax = _axes(ax)
     if extent is None:
         extent = motion_extent(samples, include=[x_prev, end])
     x0, x1, y0, y1 = extent

@@ -118,15 +118,6 @@ def _correspondences(c, count: int) -> np.ndarray:
     return arr
 
 
-def _batch(**shapes) -> tuple[int, ...]:
-    """The broadcast of the named batch shapes, or a ValueError naming each argument."""
-    try:
-        return np.broadcast_shapes(*shapes.values())
-    except ValueError:
-        listed = ", ".join(f"{name} {shape}" for name, shape in shapes.items())
-        raise ValueError(f"batch shapes do not broadcast: {listed}") from None
-
-
 def _relative(x, m):
     dx = m[..., 0] - x[..., 0]
     dy = m[..., 1] - x[..., 1]
@@ -161,7 +152,7 @@ def landmark_measurement(x, m):
     """
     x = check.poses(x, "x")
     m = _landmark_rows(m)
-    batch = _batch(x=x.shape[:-1], m=m.shape[:-1])
+    batch = check.batch_shape(x=x.shape[:-1], m=m.shape[:-1])
     dx, dy = _relative(x, m)
     out = np.empty((*batch, m.shape[-1]))
     out[..., 0] = np.hypot(dx, dy)
@@ -205,7 +196,7 @@ def landmark_measurement_jacobian(x, m):
     """
     x = check.poses(x, "x")
     m = _landmark_rows(m)
-    batch = _batch(x=x.shape[:-1], m=m.shape[:-1])
+    batch = check.batch_shape(x=x.shape[:-1], m=m.shape[:-1])
     dx, dy = _relative(x, m)
     q = dx * dx + dy * dy
     if np.any(q == 0):
@@ -218,15 +209,6 @@ def landmark_measurement_jacobian(x, m):
     H[..., 1, 1] = -dx / q
     H[..., 1, 2] = -1.0
     return H
-
-
-def _log_normal(a, b2):
-    """log N(a; 0, b2); b2 == 0 is a point mass (log inf at a == 0, -inf elsewhere)."""
-    a, b2 = np.broadcast_arrays(a, b2)
-    positive = b2 > 0
-    safe = np.where(positive, b2, 1.0)
-    logp = -0.5 * np.square(a) / safe - 0.5 * np.log(_TWO_PI * safe)
-    return np.where(positive, logp, np.where(a == 0, np.inf, -np.inf))
 
 
 def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
@@ -269,6 +251,7 @@ def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
     -------
     q : float or ndarray, broadcast batch shape
     """
+    log = check.flag(log, "log")
     f = check.vectors(f, "f", 3, "r, phi, s")
     x = check.poses(x, "x")
     m = _map(m)
@@ -276,22 +259,22 @@ def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
         raise ValueError(f"m must have shape (L, 3) (x, y, s) for signatures, got {m.shape}")
     c = _correspondences(c, m.shape[0])
     sig2 = np.square(_sigmas(sigmas))
-    _batch(f=f.shape[:-1], c=c.shape, x=x.shape[:-1])
+    check.batch_shape(f=f.shape[:-1], c=c.shape, x=x.shape[:-1])
     z_hat = landmark_measurement(x, m[c])
     errors = (
         f[..., 0] - z_hat[..., 0],
         wrap_angle(f[..., 1] - z_hat[..., 1]),
         f[..., 2] - z_hat[..., 2],
     )
-    if log:
-        logq = sum(_log_normal(e, s2) for e, s2 in zip(errors, sig2, strict=True))
-        return check.scalar_or_array(logq)
-    with np.errstate(invalid="ignore"):  # inf · 0 (a matched point mass times a far-off factor)
-        q = np.ones(np.shape(errors[0]))
-        for e, s2 in zip(errors, sig2, strict=True):
-            q = q * prob_normal_distribution(e, s2)
-    # inf · 0 is a point mass matched on one component and missed on another: the answer is 0.
-    return check.scalar_or_array(np.where(np.isnan(q), 0.0, q))
+    terms = [
+        np.asarray(prob_normal_distribution(e, s2, log=True))
+        for e, s2 in zip(errors, sig2, strict=True)
+    ]
+    with np.errstate(invalid="ignore"):  # inf + (-inf), resolved on the next line
+        logq = terms[0] + terms[1] + terms[2]
+    # inf + (-inf): one component a matched point mass, another missed: the likelihood is 0.
+    logq = np.where(np.isnan(logq), -np.inf, logq)
+    return check.scalar_or_array(logq if log else np.exp(logq))
 
 
 def sample_landmark_model_known_correspondence(
@@ -356,12 +339,16 @@ def sample_landmark_model_known_correspondence(
         raise ValueError(f"sigmas must hold (σ_r, σ_φ) or (σ_r, σ_φ, σ_s), got shape {sig.shape}")
     _sigmas(sig, sig.shape[0])
     check.callable_arg(sample, "sample")
-    shape = check.output_shape(_batch(f=f.shape[:-1], c=c.shape), size)
-    rng = np.random.default_rng(rng)
+    shape = check.output_shape(check.batch_shape(f=f.shape[:-1], c=c.shape), size)
+    rng = check.rng(rng)
 
     gamma = rng.uniform(0.0, _TWO_PI, size=shape)
-    r_hat = f[..., 0] + np.asarray(sample(sig[0] ** 2, size=shape, rng=rng), dtype=float)
-    phi_hat = f[..., 1] + np.asarray(sample(sig[1] ** 2, size=shape, rng=rng), dtype=float)
+    r_hat = f[..., 0] + check.sample_output(
+        sample(sig[0] ** 2, size=shape, rng=rng), "sample", shape
+    )
+    phi_hat = f[..., 1] + check.sample_output(
+        sample(sig[1] ** 2, size=shape, rng=rng), "sample", shape
+    )
     landmark = m[c]
     out = np.empty((*shape, 3))
     out[..., 0] = landmark[..., 0] + r_hat * np.cos(gamma)
@@ -652,7 +639,7 @@ def sample_beam_mixture(z_star, params, size=None, rng=None):
     p = _check_params(params)
     z_star = _check_expected(z_star, p.max_range)
     shape = check.output_shape(z_star.shape, size)
-    rng = np.random.default_rng(rng)
+    rng = check.rng(rng)
     zs = np.broadcast_to(z_star, shape)
     comp = rng.choice(4, size=shape, p=p.weights / p.weights.sum())
     u = rng.random(shape)
@@ -844,8 +831,7 @@ def learn_intrinsic_parameters(
     e_step = check.choice(e_step, "e_step", ("weighted", "deck"))
     m_step = check.choice(m_step, "m_step", ("exact", "book"))
     tol = check.positive_scalar(tol, "tol")
-    if not (isinstance(max_iter, int | np.integer) and max_iter >= 1):
-        raise ValueError(f"max_iter must be a positive integer, got {max_iter!r}")
+    max_iter = check.count(max_iter, "max_iter", minimum=1)
     at_max = z >= max_range
     if init is None:
         dev = np.abs(z - z_star)[~at_max]

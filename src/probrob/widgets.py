@@ -43,9 +43,11 @@ __all__ = [
 _CDN_STYLESHEET = re.compile(r"<link\s+rel=\"stylesheet\"\s+href=\"https?://[^\"]*\"\s*/?>")
 
 
-def _slider(description, value, lo, hi, step, fmt=".3f"):
+def _slider(description, value, lo, hi, step, fmt=".3f", *, name=None):
+    """A float slider; a start ``value`` outside ``[lo, hi]`` raises (ipywidgets would clamp)."""
     import ipywidgets as w
 
+    value = check.in_range(value, name or description, lo, hi)
     return w.FloatSlider(
         value=value,
         min=lo,
@@ -61,6 +63,8 @@ def _slider(description, value, lo, hi, step, fmt=".3f"):
 def _common_controls(distribution, noise):
     import ipywidgets as w
 
+    check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
+    check.choice(noise, "noise", ("variance", "std"))
     return {
         "distribution": w.Dropdown(
             options=list(DISTRIBUTIONS), value=distribution, description="noise distribution"
@@ -119,12 +123,17 @@ def velocity_model_explorer(
         Display it as the last expression of a cell.
     """
     alpha = check.alphas(alpha, "alpha", 6)
-    x_prev = check.poses(x_prev, "x_prev")
-    controls = {f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005) for k in range(6)}
+    x_prev = check.single_pose(x_prev, "x_prev")
+    n_samples = check.count(n_samples, "n_samples", 0)
+    check.rng(rng)  # rejects a bad seed now, not at the first redraw inside the widget
+    controls = {
+        f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005, name=f"alpha[{k}]")
+        for k in range(6)
+    }
     controls |= {
-        "v": _slider("v [m/s]", v, -2.0, 2.0, 0.05, ".2f"),
-        "w": _slider("ω [rad/s]", w, -2.0, 2.0, 0.05, ".2f"),
-        "dt": _slider("Δt [s]", dt, 0.1, 3.0, 0.1, ".1f"),
+        "v": _slider("v [m/s]", v, -2.0, 2.0, 0.05, ".2f", name="v"),
+        "w": _slider("ω [rad/s]", w, -2.0, 2.0, 0.05, ".2f", name="w"),
+        "dt": _slider("Δt [s]", dt, 0.1, 3.0, 0.1, ".1f", name="dt"),
     }
     controls |= _common_controls(distribution, noise)
 
@@ -173,12 +182,17 @@ def odometry_model_explorer(
     from .motion import apply_odometry_deltas
 
     alpha = check.alphas(alpha, "alpha", 4)
-    x_prev = check.poses(x_prev, "x_prev")
-    controls = {f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005) for k in range(4)}
+    x_prev = check.single_pose(x_prev, "x_prev")
+    n_samples = check.count(n_samples, "n_samples", 0)
+    check.rng(rng)  # rejects a bad seed now, not at the first redraw inside the widget
+    controls = {
+        f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005, name=f"alpha[{k}]")
+        for k in range(4)
+    }
     controls |= {
-        "rot1": _slider("δrot1 [rad]", rot1, -3.1, 3.1, 0.05, ".2f"),
-        "trans": _slider("δtrans [m]", trans, 0.0, 3.0, 0.05, ".2f"),
-        "rot2": _slider("δrot2 [rad]", rot2, -3.1, 3.1, 0.05, ".2f"),
+        "rot1": _slider("δrot1 [rad]", rot1, -3.1, 3.1, 0.05, ".2f", name="rot1"),
+        "trans": _slider("δtrans [m]", trans, 0.0, 3.0, 0.05, ".2f", name="trans"),
+        "rot2": _slider("δrot2 [rad]", rot2, -3.1, 3.1, 0.05, ".2f", name="rot2"),
     }
     controls |= _common_controls(distribution, noise)
     origin = np.zeros(3)
@@ -383,6 +397,8 @@ def alpha_player(
     player : IPython.display.HTML
     """
     alpha = check.finite(alpha, "alpha")
+    if alpha.ndim != 1 or np.any(alpha < 0):
+        raise ValueError(f"alpha must be non-negative noise parameters, got {alpha.tolist()}")
     values = check.finite(values, "values")
     if values.ndim != 1 or values.size == 0 or np.any(values < 0):
         raise ValueError("values must be a non-empty 1-D sequence of non-negative numbers")
@@ -434,3 +450,29 @@ def alpha_player(
             f"{values[0]:.3g} to {values[-1]:.3g} in {len(values)} frames"
         ),
     )
+
+
+# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live) ----------
+from ._live import (  # noqa: E402
+    Choice,
+    LiveWidget,
+    Slider,
+    landmark_draws,
+    landmark_model_live,
+    live_widget,
+    odometry_model_live,
+    standard_draws,
+    velocity_model_live,
+)
+
+__all__ += [
+    "Choice",
+    "LiveWidget",
+    "Slider",
+    "landmark_draws",
+    "landmark_model_live",
+    "live_widget",
+    "odometry_model_live",
+    "standard_draws",
+    "velocity_model_live",
+]
