@@ -6,6 +6,10 @@ For every page it checks that
     ``\\(`` or ``\\[`` left in the visible text outside code blocks);
   * the plots are there (``<img>`` in cell outputs with a non-zero natural size, no broken image
     anywhere on the page);
+  * the figures are readable: no figure or player image is shrunk by the page below its own size
+    (a shrunk image shrinks its tick labels with it; ``probrob.plotting.use_book_style`` sizes
+    figures for the column with 9-pt = 12.5-px tick labels), none is wider than the text column,
+    every ``<img>`` has an ``alt`` text and every player slider a label;
   * every ``to_jshtml`` animation player changes its frame when its "Next frame" button is
     clicked, and again while "Play" runs;
   * the page loads nothing from outside the local server (no external script, stylesheet, font,
@@ -305,6 +309,33 @@ JS_SURVEY = r"""
 })()
 """
 
+# Figure readability: the displayed size of every plot and player image against its natural
+# (intended) size and against the width of the text column; alt texts and slider labels.
+JS_FIGURES = r"""
+(() => {
+  const article = document.querySelector("article.bd-article") || document.querySelector("main")
+    || document.body;
+  const style = getComputedStyle(article);
+  const column = article.clientWidth - parseFloat(style.paddingLeft)
+    - parseFloat(style.paddingRight);
+  const figures = Array.from(document.querySelectorAll(".cell_output img"))
+    .filter(im => im.complete && im.naturalWidth > 0)
+    .map((im, k) => {
+      const r = im.getBoundingClientRect();
+      return {k: k, player: im.id.startsWith("_anim_img"), natural: im.naturalWidth,
+              shown: Math.round(r.width * 10) / 10, scale: r.width / im.naturalWidth,
+              src: (im.getAttribute("src") || "").slice(0, 60)};
+    });
+  const noAlt = Array.from(document.querySelectorAll("article img"))
+    .filter(im => !(im.getAttribute("alt") || "").trim())
+    .map(im => (im.id || im.getAttribute("src") || "").slice(0, 60));
+  const unlabelled = Array.from(document.querySelectorAll(".animation input[type=range]"))
+    .filter(el => !el.getAttribute("aria-label") && !(el.labels && el.labels.length))
+    .map(el => el.id.slice(0, 30));
+  return {column: Math.round(column), figures: figures, noAlt: noAlt, unlabelled: unlabelled};
+})()
+"""
+
 # A cheap fingerprint of a (data:) URL, so frames can be compared without shipping megabytes.
 JS_PLAYER_STATE = r"""
 ((k) => {
@@ -415,6 +446,38 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         failures.append(f"images: {info['plotsOk']} rendered plots, expected >= {args.min_images}")
     if info["broken"]:
         failures.append(f"images: broken {info['broken'][:5]}")
+
+    # Figure readability
+    fig = p.js(JS_FIGURES)
+    figures = fig["figures"]
+    if figures:
+        smallest = min(figures, key=lambda f: f["scale"])
+        widest = max(figures, key=lambda f: f["natural"])
+        print(
+            f"  figures: {len(figures)} images (plots and players) in a {fig['column']}-px "
+            f"column; widest {widest['natural']} px; smallest display scale "
+            f"{smallest['scale']:.3f} (image {smallest['k'] + 1}); "
+            f"{len(fig['noAlt'])} without alt text, {len(fig['unlabelled'])} unlabelled sliders"
+        )
+    shrunk = [f for f in figures if f["scale"] < args.min_figure_scale]
+    if shrunk:
+        failures.append(
+            f"figures: {len(shrunk)} shrunk by the page below {args.min_figure_scale:.0%} of "
+            "their size (their text shrinks with them): "
+            + ", ".join(
+                f"image {f['k'] + 1} {f['natural']} px shown at {f['shown']}" for f in shrunk[:5]
+            )
+        )
+    too_wide = [f for f in figures if f["natural"] > fig["column"]]
+    if too_wide:
+        failures.append(
+            f"figures: {len(too_wide)} wider than the {fig['column']}-px column: "
+            + ", ".join(f"image {f['k'] + 1} ({f['natural']} px)" for f in too_wide[:5])
+        )
+    if fig["noAlt"]:
+        failures.append(f"accessibility: images without alt text {fig['noAlt'][:5]}")
+    if fig["unlabelled"]:
+        failures.append(f"accessibility: player sliders without a label {fig['unlabelled'][:5]}")
 
     # Players
     for k in range(info["players"]):
@@ -532,6 +595,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--min-math", type=int, default=1, help="typeset formulas per page")
     ap.add_argument("--min-images", type=int, default=2, help="rendered plot images per page")
     ap.add_argument("--min-players", type=int, default=1, help="to_jshtml players per page")
+    ap.add_argument(
+        "--min-figure-scale",
+        type=float,
+        default=0.98,
+        help="smallest displayed/natural width of a figure image (1 = shown at its own size)",
+    )
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per page load / wait")
     ap.add_argument("--width", type=int, default=1280)
     ap.add_argument("--height", type=int, default=1600)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import matplotlib
 import numpy as np
 import pytest
@@ -13,7 +15,10 @@ matplotlib.use("Agg")  # no display in CI
 settings.register_profile(
     "probrob", derandomize=True, database=None, deadline=None, max_examples=200
 )
-settings.load_profile("probrob")
+# A slower, more thorough run: PROBROB_HYPOTHESIS_PROFILE=thorough make pytest (ten times the
+# examples; tests/test_api_properties.py scales its per-function counts by the same factor).
+settings.register_profile("thorough", parent=settings.get_profile("probrob"), max_examples=2000)
+settings.load_profile(os.environ.get("PROBROB_HYPOTHESIS_PROFILE", "probrob"))
 
 
 class Grid3:

@@ -1,0 +1,651 @@
+r"""Live widgets: kernel-free sliders that recompute a model in the reader's browser.
+
+A live widget is one self-contained block of HTML, CSS and JavaScript (no CDN, no external
+file, no build step) that works in the static book and in Jupyter (as a trusted output). It
+embeds a seeded set of *standardized draws* :math:`z` made by :mod:`probrob.distributions`
+(float64, base64) and recomputes, on every slider ``input`` event,
+
+* the sample cloud: the model's sampler with every noise term :math:`\varepsilon = b\,z`,
+  :math:`b = \sqrt{b^2}`, the same arithmetic for the normal (sum of twelve uniforms) and
+  the triangular sampler, so that a cloud for any :math:`\alpha` is the same draws rescaled;
+* the density on a grid (default 100 × 100) over the plot box (or a curve);
+
+and draws both on a ``<canvas>`` with markers (the start pose, the noise-free end pose, a
+landmark), axes and a colour bar. The JavaScript is a second implementation of the book's
+tables, so ``tests/test_live_widgets.py`` drives it in headless Chromium and compares its
+particles and density grid with :mod:`probrob.motion` and :mod:`probrob.sensors` fed the same
+draws, to a relative :math:`10^{-9}`.
+
+Adding a model is one JavaScript kernel and one Python function. The generic part
+(``_live_assets/live.js``, ``live.css``) lays out the controls, keeps the view, draws, times
+each update and exposes the test hook. A kernel file ``_live_assets/<name>.js`` assigns
+``kernels.<name>`` an object with ``markers``, ``heading``, ``sample``, ``density``, ``title``
+and ``densityLabel`` (their contract is at the top of ``live.js``; ``landmark.js`` is the
+shortest example). The Python function calls :func:`live_widget` with the kernel's name, its
+:class:`Slider` and :class:`Choice` list, any fixed ``constants`` and the embedded ``draws``
+(e.g. :func:`landmark_model_live`); a test then compares the kernel with the library. The
+files are package data, read when a widget is made and inlined into its HTML. A model whose
+picture is a curve of one variable, such as the beam model's :math:`p(z \mid z^*)` with its
+six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histogram of its
+samples): :func:`distribution_live` (Table 5.2, ``distribution.js``) is the example.
+
+Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
+itself in ``window.probrobLive.widgets`` (page order) as a handle with
+
+* ``values()``, ``defaults()`` — the current and the initial parameter values by name;
+* ``config()`` — the sliders (name, value, min, max) and the choices (name, options);
+* ``set({name: value, ...}, refit)`` — set parameters (as the controls would), recompute and
+  redraw synchronously (``refit``: fit the view to the new cloud), and return ``state()``;
+* ``state()`` — ``{values, n, nx, ny, markers, theta, view, xs, ys, particles, density,
+  timings}``: the arrays as base64 of little-endian float64 (``particles`` is ``(n, 3)``,
+  or ``(n,)`` for a curve; ``density`` is ``(ny, nx)`` with ``density[i, j]`` at
+  ``(xs[j], ys[i])``, ``ny = 1`` for a curve; ``theta`` the
+  hypothesis heading of densities taken at one heading) and the milliseconds of the last
+  update (``compute``: particles and grid; ``draw``; ``total``);
+* ``draws(name)`` — one embedded array of draws, base64 float64 ``(k, n)``;
+* ``bench(count)`` — time ``count`` full updates (after 10 untimed ones), each with one
+  parameter moved; returns ``{count, compute, draw, total}``, each ``{median, p90, max}`` in
+  milliseconds.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import itertools
+import json
+from dataclasses import dataclass
+from importlib import resources
+
+import numpy as np
+
+from . import _validation as check
+from .distributions import sample_normal_distribution, sample_triangular_distribution
+
+__all__ = [
+    "Choice",
+    "LiveWidget",
+    "Slider",
+    "distribution_live",
+    "landmark_draws",
+    "landmark_model_live",
+    "live_widget",
+    "odometry_model_live",
+    "standard_draws",
+    "velocity_model_live",
+]
+
+_ASSETS = "_live_assets"
+_COUNTER = itertools.count(1)
+
+#: The noise distributions of the live widgets: the value of the ``distribution`` choice,
+#: the label shown, and the standardized sampler (variance 1) of Table 5.4.
+DISTRIBUTIONS = {
+    "normal": ("normal (sum of 12 uniforms)", sample_normal_distribution),
+    "triangular": ("triangular", sample_triangular_distribution),
+}
+NOISE_FORMS = (("variance", "α·m² is a variance"), ("std", "α·|m| is a std"))
+DENSITY_MODES = (
+    ("xy", "over (x′, y′), θ′ integrated out"),
+    ("pose", "over (x′, y′, θ′) at the blue arrow's θ′"),
+    ("book", "the table's value at the blue arrow's θ′"),
+)
+
+
+def _asset(name: str) -> str:
+    return resources.files("probrob").joinpath(_ASSETS, name).read_text(encoding="utf-8")
+
+
+@dataclass(frozen=True)
+class Slider:
+    """A numeric parameter: a range slider and a number box, ``lo <= value <= hi``."""
+
+    name: str
+    label: str
+    value: float
+    lo: float
+    hi: float
+    step: float
+
+
+@dataclass(frozen=True)
+class Choice:
+    """A parameter with a few named values: a ``<select>`` of ``(value, text)`` options."""
+
+    name: str
+    label: str
+    options: tuple[tuple[str, str], ...]
+    value: str
+
+
+class LiveWidget:
+    """A live widget: display it (its ``_repr_html_``) or read its ``html``."""
+
+    def __init__(self, html_text: str, kernel: str):
+        self.html = html_text
+        self.kernel = kernel
+
+    def _repr_html_(self) -> str:
+        return self.html
+
+    def __repr__(self) -> str:
+        return (
+            f"<probrob live widget: {self.kernel} model, {len(self.html) / 1000:.0f} kB of HTML>"
+        )
+
+
+def standard_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
+    r"""Return seeded standardized draws, shape ``(3, n)``, of each noise distribution.
+
+    Row ``k`` holds the draws of the ``k``-th noise term of a motion sampler (Tables 5.3 and
+    5.6 draw three per particle). They are :func:`~probrob.distributions.sample_normal_distribution`
+    (the book's sum of twelve uniforms) and
+    :func:`~probrob.distributions.sample_triangular_distribution` with variance 1, so the
+    sampler's draw for a variance :math:`b^2` is :math:`\sqrt{b^2}\,z`.
+
+    Parameters
+    ----------
+    n : int
+        Draws per row (particles).
+    rng : None, int or numpy.random.Generator
+        Seed; one generator serves both distributions, normal first.
+
+    Returns
+    -------
+    draws : dict
+        ``{"normal": ndarray (3, n), "triangular": ndarray (3, n)}``.
+    """
+    if not (isinstance(n, int | np.integer) and n >= 1):
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    rng = np.random.default_rng(rng)
+    return {
+        name: sampler(1.0, size=(3, int(n)), rng=rng)
+        for name, (_, sampler) in DISTRIBUTIONS.items()
+    }
+
+
+def landmark_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
+    r"""Return seeded draws for Table 6.5: standardized normals and the ring angle :math:`\hat\gamma`.
+
+    One generator makes ``"normal"`` (shape ``(3, n)``,
+    :func:`~probrob.distributions.sample_normal_distribution` with variance 1; rows 0 and 1
+    are the range and bearing noise) and then ``"gamma"`` (shape ``(1, n)``,
+    :math:`\mathrm{rand}(0, 2\pi)` by ``Generator.uniform``). A generator in that state, passed
+    to :func:`~probrob.sensors.sample_landmark_model_known_correspondence`, draws the same
+    :math:`\hat\gamma` first.
+
+    Parameters
+    ----------
+    n : int
+        Draws per row (poses).
+    rng : None, int or numpy.random.Generator
+        Seed.
+
+    Returns
+    -------
+    draws : dict
+        ``{"normal": ndarray (3, n), "gamma": ndarray (1, n)}``.
+    """
+    if not (isinstance(n, int | np.integer) and n >= 1):
+        raise ValueError(f"n must be a positive integer, got {n!r}")
+    rng = np.random.default_rng(rng)
+    z = sample_normal_distribution(1.0, size=(3, int(n)), rng=rng)
+    return {"normal": z, "gamma": rng.uniform(0.0, 2.0 * np.pi, size=(1, int(n)))}
+
+
+def _b64(arr: np.ndarray) -> str:
+    return base64.b64encode(np.ascontiguousarray(arr, dtype="<f8").tobytes()).decode("ascii")
+
+
+def _fmt(x: float) -> str:
+    return repr(float(x))
+
+
+def _controls_html(wid: str, sliders, choices) -> str:
+    e = html.escape
+    rows = ['<div class="pl-sliders">']
+    for s in sliders:
+        rid = f"{wid}-{s.name}"
+        attrs = (
+            f'min="{_fmt(s.lo)}" max="{_fmt(s.hi)}" step="{_fmt(s.step)}" value="{_fmt(s.value)}"'
+        )
+        rows.append(
+            f'<div class="pl-row"><label for="{rid}">{e(s.label)}</label>'
+            f'<input type="range" id="{rid}" data-param="{e(s.name)}" {attrs}>'
+            f'<input type="number" id="{rid}-n" data-param="{e(s.name)}" {attrs} '
+            f'aria-label="{e(s.label)}, value"></div>'
+        )
+    rows.append("</div>")
+    for c in choices:
+        cid = f"{wid}-{c.name}"
+        options = "".join(
+            f'<option value="{e(v)}"{" selected" if v == c.value else ""}>{e(t)}</option>'
+            for v, t in c.options
+        )
+        rows.append(
+            f'<div class="pl-choice"><label for="{cid}">{e(c.label)}</label>'
+            f'<select id="{cid}" data-param="{e(c.name)}">{options}</select></div>'
+        )
+    return "\n".join(rows)
+
+
+def live_widget(
+    kernel: str,
+    sliders,
+    choices=(),
+    *,
+    title: str,
+    caption: str,
+    aria_label: str,
+    draws: dict[str, np.ndarray] | None = None,
+    constants: dict[str, float] | None = None,
+    n_particles: int = 2000,
+    grid: int = 100,
+    headings: int = 60,
+    rng=0,
+    width: int = 600,
+    height: int = 500,
+) -> LiveWidget:
+    """Return a live widget of the model whose JavaScript kernel is ``_live_assets/<kernel>.js``.
+
+    The generic mechanism: the model functions (:func:`velocity_model_live`,
+    :func:`odometry_model_live`) only choose the kernel, the sliders and the choices.
+
+    Parameters
+    ----------
+    kernel : str
+        Name of the kernel file (without ``.js``) and of the entry it adds to ``kernels``.
+    sliders : sequence of Slider
+    choices : sequence of Choice
+        A choice named ``distribution`` picks the draws and ``p.prob`` (its values must be
+        keys of ``draws``); without one, the ``"normal"`` draws are used.
+    title, caption, aria_label : str
+        A heading above the widget, a sentence below the plot saying what it shows, and the
+        canvas's accessible name.
+    draws : dict of ndarray (k, n), optional
+        Draws by name (``n = n_particles``): the kernel's ``sample`` gets the one named by the
+        ``distribution`` choice and all of them; default :func:`standard_draws`
+        ``(n_particles, rng)``.
+    constants : dict of float, optional
+        Fixed parameters the kernel reads like slider values (e.g. a landmark's position).
+    n_particles, grid, headings : int
+        Particles, density grid points per axis, and how many particles show a heading.
+    rng : None, int or numpy.random.Generator
+        Seed of the default draws.
+    width, height : int
+        Canvas size in CSS pixels.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    try:
+        kernel_js = _asset(f"{kernel}.js")
+    except (FileNotFoundError, OSError) as exc:
+        raise ValueError(f"kernel must name a file {_ASSETS}/<kernel>.js, got {kernel!r}") from exc
+    for name, value, lo in (
+        ("n_particles", n_particles, 1),
+        ("grid", grid, 2),
+        ("headings", headings, 0),
+    ):
+        if not (isinstance(value, int | np.integer) and value >= lo):
+            raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
+    if draws is None:
+        draws = standard_draws(n_particles, rng)
+    draws = {k: check.finite(v, f"draws[{k!r}]") for k, v in draws.items()}
+    for k, v in draws.items():
+        if v.ndim != 2 or v.shape[1] != n_particles:
+            raise ValueError(f"draws[{k!r}] must have shape (k, {n_particles}), got {v.shape}")
+    constants = {
+        k: float(check.finite(v, f"constants[{k!r}]")) for k, v in (constants or {}).items()
+    }
+    names = [s.name for s in sliders] + [c.name for c in choices] + list(constants)
+    if len(set(names)) != len(names):
+        raise ValueError(f"parameter names must be unique, got {names}")
+    for s in sliders:
+        if not (s.lo <= s.value <= s.hi and s.step > 0):
+            raise ValueError(f"{s.name} must lie in [{s.lo}, {s.hi}], got {s.value!r}")
+    for c in choices:
+        if c.value not in [v for v, _ in c.options]:
+            raise ValueError(
+                f"{c.name} must be one of {[v for v, _ in c.options]}, got {c.value!r}"
+            )
+    families = [v for c in choices if c.name == "distribution" for v, _ in c.options]
+    if not set(families or ["normal"]) <= set(draws):
+        raise ValueError(f"every distribution needs its draws, have {sorted(draws)}")
+
+    wid = f"probrob-live-{kernel}-{next(_COUNTER)}"
+    config = {
+        "kernel": kernel,
+        "n": int(n_particles),
+        "grid": int(grid),
+        "headings": int(headings),
+        "width": int(width),
+        "height": int(height),
+        "sliders": [
+            {"name": s.name, "value": float(s.value), "min": float(s.lo), "max": float(s.hi)}
+            for s in sliders
+        ],
+        "choices": [{"name": c.name, "value": c.value} for c in choices],
+        "constants": constants,
+        "draws": {k: _b64(v) for k, v in draws.items()},
+    }
+    config_js = json.dumps(config, ensure_ascii=True).replace("</", "<\\/")
+    e = html.escape
+    return LiveWidget(
+        f"""<div class="probrob-live" id="{wid}" role="group" aria-label="{e(title)}">
+<style>{_asset("live.css")}</style>
+<div class="pl-title"><strong>{e(title)}</strong> (live: runs in this page, no kernel)</div>
+<div class="pl-body">
+<canvas width="{width}" height="{height}" role="img" aria-label="{e(aria_label)}">{e(aria_label)}</canvas>
+<div class="pl-controls">
+{_controls_html(wid, sliders, choices)}
+<button type="button" data-action="reset">reset</button><button type="button" data-action="fit">fit view</button>
+</div>
+</div>
+<p class="pl-caption">{e(caption)}</p>
+<script>
+(function () {{
+"use strict";
+{_asset("live.js")}
+{kernel_js}
+const config = {config_js};
+// the script's own block (also when a front end runs it before the block is in the document,
+// as JupyterLab does), else the block with this id
+const script = document.currentScript;
+const root = (script && script.closest(".probrob-live")) || document.getElementById("{wid}");
+mountLiveWidget(root, config, kernels[config.kernel]);
+}})();
+</script>
+</div>""",
+        kernel,
+    )
+
+
+def _alpha_sliders(alpha, count):
+    alpha = check.alphas(alpha, "alpha", count)
+    return [
+        Slider(f"a{k + 1}", f"α{k + 1}", float(alpha[k]), 0.0, 0.5, 0.001) for k in range(count)
+    ]
+
+
+def _common_choices(distribution, noise, density):
+    check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
+    check.choice(noise, "noise", tuple(v for v, _ in NOISE_FORMS))
+    check.choice(density, "density", tuple(v for v, _ in DENSITY_MODES))
+    return [
+        Choice("noise", "noise form", NOISE_FORMS, noise),
+        Choice(
+            "distribution",
+            "distribution",
+            tuple((k, label) for k, (label, _) in DISTRIBUTIONS.items()),
+            distribution,
+        ),
+        Choice("density", "density", DENSITY_MODES, density),
+    ]
+
+
+def _in_range(value, name, lo, hi):
+    value = check.finite(value, name)
+    if value.ndim != 0 or not lo <= value <= hi:
+        raise ValueError(f"{name} must be a number in [{lo}, {hi}], got {value!r}")
+    return float(value)
+
+
+def velocity_model_live(
+    *,
+    v=1.0,
+    w=0.8,
+    dt=1.0,
+    theta=0.0,
+    alpha=(0.02, 0.02, 0.02, 0.02, 0.01, 0.01),
+    distribution="normal",
+    noise="variance",
+    density="xy",
+    n_particles=2000,
+    grid=100,
+    rng=0,
+) -> LiveWidget:
+    r"""Return a live widget of the velocity motion model (Tables 5.1 and 5.3).
+
+    Sliders for :math:`v` (m/s), :math:`\omega` (rad/s), :math:`\Delta t` (s), the start
+    heading :math:`\theta` (rad) and :math:`\alpha_1 \ldots \alpha_6`; choices for the noise
+    form, the distribution and the density shown: ``"xy"`` (heading integrated out, as the
+    chapter's figures), or ``"pose"`` / ``"book"`` (see
+    :func:`~probrob.motion.motion_model_velocity`) at the noise-free end heading. The robot
+    starts at the origin. The cloud is :func:`~probrob.motion.sample_motion_model_velocity`
+    with the embedded draws of :func:`standard_draws`.
+
+    Parameters
+    ----------
+    v, w, dt, theta : float
+        Initial slider values (ranges: v, ω in [-2, 2], Δt in [0.1, 3], θ in [-3.14, 3.14]).
+    alpha : array_like, shape (6,)
+        Initial noise parameters, each in [0, 0.5].
+    distribution : {"normal", "triangular"}
+    noise : {"variance", "std"}
+    density : {"xy", "pose", "book"}
+    n_particles, grid, rng
+        Particles, density grid points per axis, seed of the draws.
+
+    Returns
+    -------
+    widget : LiveWidget
+        Display it as the last expression of a cell.
+    """
+    sliders = [
+        Slider("v", "v [m/s]", _in_range(v, "v", -2, 2), -2.0, 2.0, 0.01),
+        Slider("w", "ω [rad/s]", _in_range(w, "w", -2, 2), -2.0, 2.0, 0.01),
+        Slider("dt", "Δt [s]", _in_range(dt, "dt", 0.1, 3), 0.1, 3.0, 0.01),
+        Slider(
+            "theta", "θ start [rad]", _in_range(theta, "theta", -3.14, 3.14), -3.14, 3.14, 0.01
+        ),
+        *_alpha_sliders(alpha, 6),
+    ]
+    return live_widget(
+        "velocity",
+        sliders,
+        _common_choices(distribution, noise, density),
+        title="Velocity motion model (Tables 5.1 and 5.3)",
+        caption=(
+            f"Red: {n_particles} samples of Table 5.3 (the first 60 with their heading); grey: "
+            "the density of Table 5.1 on a 100 × 100 grid (darker is more probable); black "
+            "arrow: the start pose; blue arrow: the noise-free end pose. The view grows with "
+            "the cloud; “fit view” zooms back in."
+        ),
+        aria_label=(
+            "Plot of the velocity motion model in the x-y plane: a cloud of sampled end poses "
+            "over a grey density image, with the start pose and the noise-free end pose."
+        ),
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+    )
+
+
+def odometry_model_live(
+    *,
+    rot1=0.6,
+    trans=1.0,
+    rot2=-0.4,
+    theta=0.0,
+    alpha=(0.05, 0.005, 0.05, 0.005),
+    distribution="normal",
+    noise="variance",
+    density="xy",
+    n_particles=2000,
+    grid=100,
+    rng=0,
+) -> LiveWidget:
+    r"""Return a live widget of the odometry motion model (Tables 5.5 and 5.6).
+
+    Sliders for the odometry's motion :math:`\delta_{rot1}, \delta_{trans}, \delta_{rot2}`
+    (the odometry poses are the origin and the pose this motion reaches from it), the
+    robot's start heading :math:`\theta` and :math:`\alpha_1 \ldots \alpha_4`; the same
+    choices as :func:`velocity_model_live`. The robot starts at the origin.
+
+    Parameters
+    ----------
+    rot1, trans, rot2, theta : float
+        Initial slider values (rotations in [-3.14, 3.14] rad, translation in [0, 3] m).
+    alpha : array_like, shape (4,)
+        Initial noise parameters, each in [0, 0.5].
+    distribution, noise, density, n_particles, grid, rng
+        As for :func:`velocity_model_live`.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    sliders = [
+        Slider("rot1", "δrot1 [rad]", _in_range(rot1, "rot1", -3.14, 3.14), -3.14, 3.14, 0.01),
+        Slider("trans", "δtrans [m]", _in_range(trans, "trans", 0, 3), 0.0, 3.0, 0.01),
+        Slider("rot2", "δrot2 [rad]", _in_range(rot2, "rot2", -3.14, 3.14), -3.14, 3.14, 0.01),
+        Slider(
+            "theta", "θ start [rad]", _in_range(theta, "theta", -3.14, 3.14), -3.14, 3.14, 0.01
+        ),
+        *_alpha_sliders(alpha, 4),
+    ]
+    return live_widget(
+        "odometry",
+        sliders,
+        _common_choices(distribution, noise, density),
+        title="Odometry motion model (Tables 5.5 and 5.6)",
+        caption=(
+            f"Red: {n_particles} samples of Table 5.6 (the first 60 with their heading); grey: "
+            "the density of Table 5.5 on a 100 × 100 grid (darker is more probable); black "
+            "arrow: the start pose; blue arrow: the noise-free end pose. The view grows with "
+            "the cloud; “fit view” zooms back in."
+        ),
+        aria_label=(
+            "Plot of the odometry motion model in the x-y plane: a cloud of sampled end poses "
+            "over a grey density image, with the start pose and the noise-free end pose."
+        ),
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+    )
+
+
+def landmark_model_live(
+    *,
+    r=2.0,
+    phi=0.5,
+    s=1.0,
+    sigmas=(0.1, 0.05, 0.2),
+    theta=0.0,
+    landmark=(0.0, 0.0, 1.0),
+    n_particles=2000,
+    grid=100,
+    rng=0,
+) -> LiveWidget:
+    r"""Return a live widget of the landmark model (Tables 6.4 and 6.5).
+
+    Sliders for the feature :math:`f = (r, \phi, s)`, the standard deviations
+    :math:`(\sigma_r, \sigma_\phi, \sigma_s)` and the heading :math:`	heta` at which the
+    likelihood is drawn. Red: poses of
+    :func:`~probrob.sensors.sample_landmark_model_known_correspondence` (the embedded draws of
+    :func:`landmark_draws`); grey:
+    :func:`~probrob.sensors.landmark_model_known_correspondence` over :math:`(x, y)` for poses
+    with heading :math:`	heta`; blue square: the landmark.
+
+    Parameters
+    ----------
+    r, phi, s : float
+        The feature: range in [0, 5] m, bearing in [-3.14, 3.14] rad, signature in [0, 3].
+    sigmas : array_like, shape (3,)
+        :math:`(\sigma_r, \sigma_\phi, \sigma_s)`, each in [0, 1].
+    theta : float
+        Heading of the likelihood image, in [-3.14, 3.14] rad.
+    landmark : array_like, shape (3,)
+        The landmark :math:`(x, y, s)` the feature corresponds to.
+    n_particles, grid, rng
+        Poses, likelihood grid points per axis, seed of the draws.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    sigmas = check.finite(sigmas, "sigmas")
+    if sigmas.shape != (3,):
+        raise ValueError(f"sigmas must hold (σ_r, σ_φ, σ_s), got shape {sigmas.shape}")
+    mx, my, ms = check.vectors(landmark, "landmark", 3, "x, y, s")
+    sliders = [
+        Slider("r", "r [m]", _in_range(r, "r", 0, 5), 0.0, 5.0, 0.01),
+        Slider("phi", "φ [rad]", _in_range(phi, "phi", -3.14, 3.14), -3.14, 3.14, 0.01),
+        Slider("s", "s", _in_range(s, "s", 0, 3), 0.0, 3.0, 0.01),
+        Slider("sr", "σr [m]", _in_range(sigmas[0], "sigmas[0]", 0, 1), 0.0, 1.0, 0.005),
+        Slider("sphi", "σφ [rad]", _in_range(sigmas[1], "sigmas[1]", 0, 1), 0.0, 1.0, 0.005),
+        Slider("ss", "σs", _in_range(sigmas[2], "sigmas[2]", 0, 1), 0.0, 1.0, 0.005),
+        Slider(
+            "theta", "θ image [rad]", _in_range(theta, "theta", -3.14, 3.14), -3.14, 3.14, 0.01
+        ),
+    ]
+    return live_widget(
+        "landmark",
+        sliders,
+        title="Landmark model (Tables 6.4 and 6.5)",
+        caption=(
+            f"Red: {n_particles} poses of Table 6.5 drawn from the feature (the first 60 with "
+            "their heading): a ring around the landmark (blue square). Grey: the likelihood "
+            "p(f | x, m) of Table 6.4 over (x, y) for poses with the heading θ of the slider "
+            "(darker is more likely): the part of the ring from which the landmark is seen at "
+            "bearing φ when facing θ. The signature s scales the whole image."
+        ),
+        aria_label=(
+            "Plot of the landmark model in the x-y plane: a ring of sampled poses around the "
+            "landmark, over a grey likelihood image for one heading."
+        ),
+        draws=landmark_draws(n_particles, rng),
+        constants={"mx": mx, "my": my, "ms": ms},
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+    )
+
+
+def distribution_live(*, b2=1.0, distribution="normal", n_particles=2000, grid=200, rng=0):
+    r"""Return a live widget of the zero-mean densities of Table 5.2 and their samplers.
+
+    A slider for the variance :math:`b^2` and a choice of distribution; the curve is
+    :func:`~probrob.distributions.prob_normal_distribution` or
+    :func:`~probrob.distributions.prob_triangular_distribution` over :math:`\pm 4.5\,b`, the
+    histogram is the embedded standardized draws of :func:`standard_draws` times :math:`b`
+    (Table 5.4's samplers). The smallest widget of ``kind: "curve"``.
+
+    Parameters
+    ----------
+    b2 : float
+        Initial variance, in [0.01, 4].
+    distribution : {"normal", "triangular"}
+    n_particles, grid, rng
+        Samples, curve points, seed of the draws.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
+    return live_widget(
+        "distribution",
+        [Slider("b2", "b² (variance)", _in_range(b2, "b2", 0.01, 4), 0.01, 4.0, 0.01)],
+        [
+            Choice(
+                "distribution",
+                "distribution",
+                tuple((k, label) for k, (label, _) in DISTRIBUTIONS.items()),
+                distribution,
+            )
+        ],
+        title="Noise distributions (Tables 5.2 and 5.4)",
+        caption=(
+            f"Blue: the density of Table 5.2 with variance b²; red: a histogram of {n_particles} "
+            "samples of Table 5.4, the same standardized draws times b."
+        ),
+        aria_label=(
+            "Plot of a zero-mean noise density against a, over a histogram of its samples."
+        ),
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+    )
