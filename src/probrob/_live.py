@@ -152,9 +152,8 @@ def standard_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
     draws : dict
         ``{"normal": ndarray (3, n), "triangular": ndarray (3, n)}``.
     """
-    if not (isinstance(n, int | np.integer) and n >= 1):
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    rng = np.random.default_rng(rng)
+    n = check.count(n, "n", 1)
+    rng = check.rng(rng)
     return {
         name: sampler(1.0, size=(3, int(n)), rng=rng)
         for name, (_, sampler) in DISTRIBUTIONS.items()
@@ -183,9 +182,8 @@ def landmark_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
     draws : dict
         ``{"normal": ndarray (3, n), "gamma": ndarray (1, n)}``.
     """
-    if not (isinstance(n, int | np.integer) and n >= 1):
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    rng = np.random.default_rng(rng)
+    n = check.count(n, "n", 1)
+    rng = check.rng(rng)
     z = sample_normal_distribution(1.0, size=(3, int(n)), rng=rng)
     return {"normal": z, "gamma": rng.uniform(0.0, 2.0 * np.pi, size=(1, int(n)))}
 
@@ -284,8 +282,7 @@ def live_widget(
         ("grid", grid, 2),
         ("headings", headings, 0),
     ):
-        if not (isinstance(value, int | np.integer) and value >= lo):
-            raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
+        check.count(value, name, lo)
     if draws is None:
         draws = standard_draws(n_particles, rng)
     draws = {k: check.finite(v, f"draws[{k!r}]") for k, v in draws.items()}
@@ -562,6 +559,7 @@ def landmark_model_live(
     -------
     widget : LiveWidget
     """
+    n_particles = check.count(n_particles, "n_particles", 1)
     sigmas = check.finite(sigmas, "sigmas")
     if sigmas.shape != (3,):
         raise ValueError(f"sigmas must hold (σ_r, σ_φ, σ_s), got shape {sigmas.shape}")
