@@ -307,6 +307,14 @@ def _positive_variances_motion(kw) -> bool:
     return bool(np.min(kw["alpha"]) >= 1e-3 and np.min(np.abs(kw["u_t"])) >= 1e-3)
 
 
+def _hypothesis_moved_odometry(kw) -> bool:
+    """Finite is defined for Table 5.5 as printed when all α >= 1e-3 and x_t moved >= 1 mm."""
+    if kw.get("density", "book") != "book" or np.min(kw["alpha"]) < 1e-3:
+        return False
+    d = np.asarray(kw["x_t"])[..., :2] - np.asarray(kw["x_prev"])[..., :2]
+    return bool(np.all(np.hypot(d[..., 0], d[..., 1]) >= 1e-3))
+
+
 def _angles_in_range(result, kw):
     assert np.all((np.asarray(result) >= -PI) & (np.asarray(result) < PI))
 
@@ -414,6 +422,7 @@ API = [
         prob=PROB,
         noise=NOISE,
         density=DENSITY,
+        finite_when=_hypothesis_moved_odometry,
         examples=80,
     ),
     Api(
@@ -487,7 +496,19 @@ API = [
         rng=SEED,
         examples=3,
     ),
+    Api(plotting.plot_velocity_geometry, "plot", x_prev=POSE, x_t=POSE, dt=DT, examples=5),
+    Api(plotting.plot_odometry_deltas, "plot", xbar_prev=POSE, xbar_t=POSE, examples=5),
+    Api(plotting.book_style, "widget", examples=1),
+    Api(plotting.use_book_style, "widget", skip_valid=True),  # changes global rcParams
     # probrob.widgets (invalid rows; building the sliders is cheap, the players are not)
+    Api(
+        widgets.parameter_player,
+        "widget",
+        draw=Arg(constant(lambda ax, value: None), lambda ax, value: None, BAD_CALLABLE),
+        values=Arg(constant([0.0, 1.0]), [0.0, 1.0], [([], ValueError), (None, ValueError)]),
+        label=Arg(constant("a"), "a", [("", ValueError), (None, ValueError), (3, ValueError)]),
+        skip_valid=True,
+    ),
     Api(
         widgets.velocity_model_explorer,
         "widget",

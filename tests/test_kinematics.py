@@ -444,8 +444,35 @@ def test_batches_equal_one_at_a_time(shape):
         (lambda: cir_step_transform([1.0, 0.5], -1.0), "wheelbase"),
         (lambda: cir_radius_angle([[1.0, 0.5]] * 3, [0.3, 0.4]), "wheelbase"),
         (lambda: cir_pose_matrix([0.0, 0.0, 0.0, 0.0]), "x"),
+        (lambda: cir_state_function(np.zeros((2, 3)), np.ones((3, 2)), 0.3), "x_prev"),
+        (lambda: cir_state_jacobians(np.zeros((2, 3)), np.ones((3, 2)), 0.3), "x_prev"),
+        (lambda: dead_reckon([0.0, 0.0, 0.0], np.ones((2, 4)), np.ones((3, 4))), "ds"),
+        # finite input whose result overflows float64: named, not inf or a RuntimeWarning
+        (
+            lambda: (
+                arc_update([0.0, 0.0, 0.0], 1e308, 0.0) * 0 + arc_update([1e308, 0, 0], 1e308, 0.0)
+            ),
+            "ds",
+        ),
+        (lambda: tricycle_odometry(1e300, 0.5, 1e-10), "d_front|wheelbase"),
+        (lambda: diff_drive_odometry(1.5e308, 1.5e308, 1.0), "ds_left|ds_right"),
+        (lambda: cir_state_function([0.0, 0.0, 0.0], [1.0, 0.5], 1e-320), "wheelbase|u"),
+        (lambda: dead_reckon([0.0, 0.0, 0.0], [1e308, 1e308], [0.0, 0.0]), "ds"),
     ],
 )
 def test_bad_input_raises_value_error_naming_the_argument(call, name):
     with pytest.raises(ValueError, match=name):
+        call()
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: diff_drive_odometry(1j, 1.0, 0.3),
+        lambda: arc_update([0.0, 0.0, 1j], 1.0, 0.1),
+        lambda: cir_state_function([0.0, 0.0, 0.0], [1.0, 1j], 0.3),
+    ],
+)
+def test_complex_input_raises_type_error(call):
+    with pytest.raises(TypeError, match="real"):
         call()

@@ -515,3 +515,11 @@ def test_odometry_explorer_raises_instead_of_clamping(kwargs, name):
 
     with pytest.raises(ValueError, match=name):
         odometry_model_explorer(**kwargs)
+
+
+def test_out_of_range_python_ints_and_long_messages():
+    with pytest.raises(ValueError, match=r"^theta is out of the float64 range"):
+        wrap_angle(10**400)
+    with pytest.raises(ValueError, match="x_prev") as info:
+        motion_model_velocity(X0, [1, 0], [[0.0, 0.0, np.nan]] * 100_000, 1.0, [0.1] * 6)
+    assert len(str(info.value)) < 300  # the value is summarised, not printed whole

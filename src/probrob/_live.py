@@ -8,7 +8,7 @@ embeds a seeded set of *standardized draws* :math:`z` made by :mod:`probrob.dist
 * the sample cloud: the model's sampler with every noise term :math:`\varepsilon = b\,z`,
   :math:`b = \sqrt{b^2}`, the same arithmetic for the normal (sum of twelve uniforms) and
   the triangular sampler, so that a cloud for any :math:`\alpha` is the same draws rescaled;
-* the density on a grid (default 100 × 100) over the plot box;
+* the density on a grid (default 100 × 100) over the plot box (or a curve);
 
 and draws both on a ``<canvas>`` with markers (the start pose, the noise-free end pose, a
 landmark), axes and a colour bar. The JavaScript is a second implementation of the book's
@@ -24,9 +24,10 @@ and ``densityLabel`` (their contract is at the top of ``live.js``; ``landmark.js
 shortest example). The Python function calls :func:`live_widget` with the kernel's name, its
 :class:`Slider` and :class:`Choice` list, any fixed ``constants`` and the embedded ``draws``
 (e.g. :func:`landmark_model_live`); a test then compares the kernel with the library. The
-files are package data, read when a widget is made and inlined into its HTML. (A sensor model
-whose natural picture is a curve, such as the beam model's :math:`p(z \mid z^*)`, would also
-need a curve layer in ``live.js``; the planar models need none.)
+files are package data, read when a widget is made and inlined into its HTML. A model whose
+picture is a curve of one variable, such as the beam model's :math:`p(z \mid z^*)` with its
+six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histogram of its
+samples): :func:`distribution_live` (Table 5.2, ``distribution.js``) is the example.
 
 Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
@@ -37,7 +38,8 @@ itself in ``window.probrobLive.widgets`` (page order) as a handle with
   redraw synchronously (``refit``: fit the view to the new cloud), and return ``state()``;
 * ``state()`` — ``{values, n, nx, ny, markers, theta, view, xs, ys, particles, density,
   timings}``: the arrays as base64 of little-endian float64 (``particles`` is ``(n, 3)``,
-  ``density`` is ``(ny, nx)`` with ``density[i, j]`` at ``(xs[j], ys[i])``, ``theta`` the
+  or ``(n,)`` for a curve; ``density`` is ``(ny, nx)`` with ``density[i, j]`` at
+  ``(xs[j], ys[i])``, ``ny = 1`` for a curve; ``theta`` the
   hypothesis heading of densities taken at one heading) and the milliseconds of the last
   update (``compute``: particles and grid; ``draw``; ``total``);
 * ``draws(name)`` — one embedded array of draws, base64 float64 ``(k, n)``;
@@ -64,6 +66,7 @@ __all__ = [
     "Choice",
     "LiveWidget",
     "Slider",
+    "distribution_live",
     "landmark_draws",
     "landmark_model_live",
     "live_widget",
@@ -200,7 +203,7 @@ def _fmt(x: float) -> str:
 
 def _controls_html(wid: str, sliders, choices) -> str:
     e = html.escape
-    rows = []
+    rows = ['<div class="pl-sliders">']
     for s in sliders:
         rid = f"{wid}-{s.name}"
         attrs = (
@@ -212,6 +215,7 @@ def _controls_html(wid: str, sliders, choices) -> str:
             f'<input type="number" id="{rid}-n" data-param="{e(s.name)}" {attrs} '
             f'aria-label="{e(s.label)}, value"></div>'
         )
+    rows.append("</div>")
     for c in choices:
         cid = f"{wid}-{c.name}"
         options = "".join(
@@ -594,6 +598,53 @@ def landmark_model_live(
         ),
         draws=landmark_draws(n_particles, rng),
         constants={"mx": mx, "my": my, "ms": ms},
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+    )
+
+
+def distribution_live(*, b2=1.0, distribution="normal", n_particles=2000, grid=200, rng=0):
+    r"""Return a live widget of the zero-mean densities of Table 5.2 and their samplers.
+
+    A slider for the variance :math:`b^2` and a choice of distribution; the curve is
+    :func:`~probrob.distributions.prob_normal_distribution` or
+    :func:`~probrob.distributions.prob_triangular_distribution` over :math:`\pm 4.5\,b`, the
+    histogram is the embedded standardized draws of :func:`standard_draws` times :math:`b`
+    (Table 5.4's samplers). The smallest widget of ``kind: "curve"``.
+
+    Parameters
+    ----------
+    b2 : float
+        Initial variance, in [0.01, 4].
+    distribution : {"normal", "triangular"}
+    n_particles, grid, rng
+        Samples, curve points, seed of the draws.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
+    return live_widget(
+        "distribution",
+        [Slider("b2", "b² (variance)", _in_range(b2, "b2", 0.01, 4), 0.01, 4.0, 0.01)],
+        [
+            Choice(
+                "distribution",
+                "distribution",
+                tuple((k, label) for k, (label, _) in DISTRIBUTIONS.items()),
+                distribution,
+            )
+        ],
+        title="Noise distributions (Tables 5.2 and 5.4)",
+        caption=(
+            f"Blue: the density of Table 5.2 with variance b²; red: a histogram of {n_particles} "
+            "samples of Table 5.4, the same standardized draws times b."
+        ),
+        aria_label=(
+            "Plot of a zero-mean noise density against a, over a histogram of its samples."
+        ),
         n_particles=n_particles,
         grid=grid,
         rng=rng,

@@ -41,6 +41,12 @@ import numpy as np
 _REAL_KINDS = "biuf"  # bool, signed and unsigned integers, floats
 
 
+def _short(value, limit: int = 120) -> str:
+    """``repr(value)``, cut to ``limit`` characters (a message must stay readable)."""
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 5] + " ...]"
+
+
 # --------------------------------------------------------------------------- arrays
 
 
@@ -54,23 +60,28 @@ def as_float_array(value, name: str) -> np.ndarray:
     try:
         arr = np.asarray(value)
     except (TypeError, ValueError) as exc:  # ragged nesting
-        raise ValueError(f"{name} must be numeric array_like, got {value!r}") from exc
+        raise ValueError(f"{name} must be numeric array_like, got {_short(value)}") from exc
     kind = arr.dtype.kind
     if kind == "c":
-        raise TypeError(f"{name} must be real, got complex input {value!r}")
+        raise TypeError(f"{name} must be real, got complex input {_short(value)}")
     if kind in _REAL_KINDS:
+        if kind == "f" and arr.dtype.itemsize > 8:  # long double: inf where it overflows
+            with np.errstate(over="ignore"):
+                return arr.astype(float)
         return arr.astype(float, copy=False)
     if kind == "O":
         if any(isinstance(item, complex) for item in arr.flat):
-            raise TypeError(f"{name} must be real, got complex input {value!r}")
+            raise TypeError(f"{name} must be real, got complex input {_short(value)}")
         if any(item is None for item in arr.flat):
-            raise ValueError(f"{name} must be numeric array_like, got {value!r}")
+            raise ValueError(f"{name} must be numeric array_like, got {_short(value)}")
     if kind != "O":  # strings, bytes, datetimes, structured arrays
-        raise ValueError(f"{name} must be numeric array_like, got {value!r}")
+        raise ValueError(f"{name} must be numeric array_like, got {_short(value)}")
     try:
         return arr.astype(float)
+    except OverflowError as exc:  # a Python int beyond float64
+        raise ValueError(f"{name} is out of the float64 range, got {_short(value)}") from exc
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numeric array_like, got {value!r}") from exc
+        raise ValueError(f"{name} must be numeric array_like, got {_short(value)}") from exc
 
 
 array = as_float_array
@@ -144,7 +155,7 @@ def positive_scalar(value, name: str) -> float:
     """Return a finite, strictly positive float."""
     arr = finite(value, name)
     if arr.ndim != 0 or not arr > 0:
-        raise ValueError(f"{name} must be a positive scalar, got {value!r}")
+        raise ValueError(f"{name} must be a positive scalar, got {_short(value)}")
     return float(arr)
 
 
@@ -152,20 +163,20 @@ def in_range(value, name: str, lo: float, hi: float) -> float:
     """Return a finite float scalar in the closed interval ``[lo, hi]`` (never clamped)."""
     arr = finite(value, name)
     if arr.ndim != 0 or not lo <= arr <= hi:
-        raise ValueError(f"{name} must be a number in [{lo}, {hi}], got {value!r}")
+        raise ValueError(f"{name} must be a number in [{lo}, {hi}], got {_short(value)}")
     return float(arr)
 
 
 def count(value, name: str, minimum: int = 0) -> int:
     """Return an integer ``>= minimum`` (a bool or a float such as 2.7 is rejected, not truncated)."""
     if isinstance(value, bool | np.bool_):
-        raise ValueError(f"{name} must be an integer, got {value!r}")
+        raise ValueError(f"{name} must be an integer, got {_short(value)}")
     try:
         n = operator.index(value)
     except TypeError as exc:
-        raise ValueError(f"{name} must be an integer, got {value!r}") from exc
+        raise ValueError(f"{name} must be an integer, got {_short(value)}") from exc
     if n < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {_short(value)}")
     return n
 
 
@@ -176,14 +187,14 @@ def choice(value, name: str, options: tuple[str, ...]) -> str:
     except TypeError:  # e.g. an unhashable or array-valued argument
         ok = False
     if not ok or not isinstance(value, str):
-        raise ValueError(f"{name} must be one of {options}, got {value!r}")
+        raise ValueError(f"{name} must be one of {options}, got {_short(value)}")
     return value
 
 
 def callable_arg(value, name: str):
     """Return ``value`` if it is callable."""
     if not callable(value):
-        raise ValueError(f"{name} must be callable, got {value!r}")
+        raise ValueError(f"{name} must be callable, got {_short(value)}")
     return value
 
 
@@ -275,11 +286,11 @@ def rng(value, name: str = "rng") -> np.random.Generator:
         return value
     if isinstance(value, int | np.integer) and not isinstance(value, bool | np.bool_):
         if value < 0:
-            raise ValueError(f"{name} must be a non-negative int seed, got {value!r}")
+            raise ValueError(f"{name} must be a non-negative int seed, got {_short(value)}")
         return np.random.default_rng(int(value))
     raise ValueError(
         f"{name} must be None, a non-negative int, a numpy.random.SeedSequence or a "
-        f"numpy.random.Generator, got {value!r}"
+        f"numpy.random.Generator, got {_short(value)}"
     )
 
 
@@ -397,5 +408,5 @@ __all__ = [
 def flag(value, name: str) -> bool:
     """Return ``value`` if it is a bool (``True``/``False``, numpy bools too)."""
     if not isinstance(value, bool | np.bool_):
-        raise ValueError(f"{name} must be True or False, got {value!r}")
+        raise ValueError(f"{name} must be True or False, got {_short(value)}")
     return bool(value)

@@ -325,17 +325,20 @@ def _gaussian_terms(nu: np.ndarray, S: np.ndarray, name: str = "S"):
 def _correct(mu_bar, Sigma_bar, nu, H, S):
     r"""One EKF correction (Table 7.2, lines 15–17) and the feature's log-likelihood.
 
-    Returns the new μ̄, Σ̄ and :math:`\log N(\nu; 0, S)` (line 21's factor). The
-    factorisation of ``S`` checks that it is positive definite.
+    Returns the new μ̄, Σ̄ and :math:`\log N(\nu; 0, S)` (line 21's factor). ``S`` is
+    positive definite by construction (:math:`Q_t` is); its determinant and diagonal are
+    checked anyway, against rounding with badly scaled inputs.
     """
-    L = _cholesky(S, "S")
+    sign, logdet = np.linalg.slogdet(S)
+    if not sign > 0 or not S[0, 0] > 0 or not S[1, 1] > 0:
+        raise ValueError("S is not positive definite; check the scales of Sigma and sigmas")
     S_inv = np.linalg.inv(S)
-    K = Sigma_bar @ H.T @ S_inv
+    PHt = Sigma_bar @ H.T
+    K = PHt @ S_inv
     mu_bar = mu_bar + K @ nu
-    Sigma_bar = Sigma_bar - K @ (H @ Sigma_bar)
+    Sigma_bar = Sigma_bar - K @ PHt.T
     d2 = float(nu @ S_inv @ nu)
-    logdet = 2.0 * float(np.sum(np.log(np.diagonal(L))))
-    logp = -0.5 * (d2 + logdet + nu.shape[0] * _LOG_2PI)
+    logp = -0.5 * (d2 + float(logdet) + nu.shape[0] * _LOG_2PI)
     return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T), logp
 
 

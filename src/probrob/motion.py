@@ -437,7 +437,9 @@ def motion_model_velocity(
         Noise parameters :math:`\alpha_1 \ldots \alpha_6 \ge 0`.
     prob : callable, optional
         ``prob(a, b2)``, a zero-mean density with variance ``b2`` (Table 5.2), e.g.
-        :func:`~probrob.distributions.prob_triangular_distribution`.
+        :func:`~probrob.distributions.prob_triangular_distribution`. If it takes a
+        ``log`` keyword it is called with ``log=True`` and the factors are summed in log
+        space; otherwise the log of its value is taken. Its result is never modified.
     noise : {"variance", "std"}, optional
         Whether :math:`\alpha_1 v^2 + \alpha_2\omega^2` is a variance (default) or
         :math:`\alpha_1|v| + \alpha_2|\omega|` a standard deviation.
@@ -545,7 +547,8 @@ def sample_motion_model_velocity(
         Noise parameters :math:`\alpha_1 \ldots \alpha_6 \ge 0`.
     sample : callable, optional
         ``sample(b2, size=..., rng=...)``, a zero-mean sampler with variance ``b2``
-        (Table 5.4); default the book's sum of twelve uniforms. Pass
+        (Table 5.4); default the book's sum of twelve uniforms. It may return any real
+        dtype, of a shape that broadcasts to ``size``; its result is never modified. Pass
         ``functools.partial(sample_normal_distribution, method="exact")`` for exact
         normal noise.
     noise : {"variance", "std"}, optional
@@ -553,8 +556,8 @@ def sample_motion_model_velocity(
     size : int or tuple of ints, optional
         Shape of the batch of samples; the batch shape of ``u_t`` and ``x_prev`` must
         broadcast to it. Default: that batch shape (one sample per particle).
-    rng : None, int or numpy.random.Generator, optional
-        Source of randomness.
+    rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+        Source of randomness (a non-negative seed; a generator is used as is).
 
     Returns
     -------
@@ -756,7 +759,8 @@ def motion_model_odometry(
     alpha : array_like, shape (4,)
         Noise parameters :math:`\alpha_1 \ldots \alpha_4 \ge 0`.
     prob : callable, optional
-        ``prob(a, b2)``, a zero-mean density with variance ``b2`` (Table 5.2).
+        ``prob(a, b2)``, a zero-mean density with variance ``b2`` (Table 5.2); see
+        :func:`motion_model_velocity`.
     noise : {"variance", "std"}, optional
         Whether :math:`\alpha_1\delta_{rot1}^2 + \alpha_2\delta_{trans}^2` is a variance
         (default) or :math:`\alpha_1|\delta_{rot1}| + \alpha_2\delta_{trans}` a standard
@@ -863,8 +867,8 @@ def sample_motion_model_odometry(
         See :func:`motion_model_odometry`.
     size : int or tuple of ints, optional
         Shape of the batch of samples (see :func:`sample_motion_model_velocity`).
-    rng : None, int or numpy.random.Generator, optional
-        Source of randomness.
+    rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+        Source of randomness (a non-negative seed; a generator is used as is).
 
     Returns
     -------

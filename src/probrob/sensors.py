@@ -505,8 +505,13 @@ def _mixture(z, z_star, p: BeamModelParams, log):
     zmax, sigma, lam = p.max_range, p.sigma_hit, p.lambda_short
     z, z_star = np.broadcast_arrays(z, z_star)
     u = (z - z_star) / sigma
-    mass = ndtr((zmax - z_star) / sigma) - ndtr(-z_star / sigma)
-    q = (p.z_hit / (sigma * np.sqrt(2.0 * np.pi))) * np.exp(-0.5 * u * u) / mass
+    q = (p.z_hit / (sigma * np.sqrt(2.0 * np.pi))) * np.exp(-0.5 * u * u)
+    # p_hit's normaliser differs from 1 (in double precision) only within 9σ of 0 or z_max.
+    near = (z_star < 9.0 * sigma) | (z_star > zmax - 9.0 * sigma)
+    if near.any():
+        zn = z_star[near]
+        q = np.array(q, dtype=float)  # writable, also for 0-d input
+        q[near] /= ndtr((zmax - zn) / sigma) - ndtr(-zn / sigma)
     at_max = z >= zmax
     if p.z_short > 0:
         positive = z_star > 0
