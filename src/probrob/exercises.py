@@ -16,8 +16,7 @@ The book's exercise pattern (every chapter copies it):
    (``tests/test_exercises.py`` also checks that every solution prints "correct", is
    collapsed, and follows a check that prints "not yet" for the same exercise).
 
-``check`` returns ``True`` or ``False``: end a cell with ``_ = check(...)`` so that the
-book shows the message only (a trailing ``;`` does not silence a value under nbval);
+``check`` returns nothing (a trailing ``;`` does not silence a value under nbval);
 :func:`verdict` returns the printed line.
 
 Prefer a ``test`` that checks a property of the answer (by calling the library) to an
@@ -60,8 +59,8 @@ def check(
     rtol: float = 1e-6,
     atol: float = 0.0,
     hint: str | None = None,
-) -> bool:
-    """Print ``"<name>: correct"`` or ``"<name>: not yet — <what is wrong>"``; return the verdict.
+) -> None:
+    """Print ``"<name>: correct"`` or ``"<name>: not yet — <what is wrong>"``.
 
     Never raises: an answer that is missing (``None`` or ``...``), of the wrong type or
     shape, or that makes ``test`` fail or raise, is reported in the printed line.
@@ -85,14 +84,12 @@ def check(
 
     Returns
     -------
-    correct : bool
-        Whether the answer is right. In a notebook assign it (``_ = check(...)``) so that
-        the cell shows only the message: a trailing ``;`` does not silence a value under
-        nbval. :func:`verdict` returns the message itself.
+    None
+        Nothing, so that a check as the last line of a cell shows only its message (a
+        trailing ``;`` does not silence a value under nbval). Use :func:`verdict` for
+        the message as a value.
     """
-    line = verdict(name, answer, expected, test=test, rtol=rtol, atol=atol, hint=hint)
-    print(line)
-    return line.endswith(": correct")
+    print(verdict(name, answer, expected, test=test, rtol=rtol, atol=atol, hint=hint))
 
 
 def verdict(
