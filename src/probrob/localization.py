@@ -1216,17 +1216,22 @@ def run_filter(
     dts = np.empty(T)
     us = np.empty((T, 2))
     zs, cs_true = [], []
+    known = method in ("ekf", "ukf")
+    no_z = np.zeros((0, 3 if signatures else 2))
+    no_c = np.zeros(0, dtype=int)
     for i, step in enumerate(steps):
         t[i] = step.t
         dts[i] = step.dt
         us[i] = step.u
+        if len(step.z) == 0:  # most steps of a real run: nothing to check
+            zs.append(no_z)
+            cs_true.append(no_c)
+            continue
         z = _features(step.z)
-        if not signatures and z.size:
+        if not signatures:
             z = z[:, :2]
         zs.append(z)
-        cs_true.append(
-            _correspondences(step.c, z.shape[0], m.shape[0]) if method != "ekf_ml" else None
-        )
+        cs_true.append(_correspondences(step.c, z.shape[0], m.shape[0]) if known else None)
     if not np.all(np.isfinite(us)):
         raise ValueError("steps: every u must be finite")
     if not np.all(dts > 0):
