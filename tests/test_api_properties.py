@@ -72,6 +72,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+import probrob._live as live
 import probrob.angles as angles
 import probrob.distributions as distributions
 import probrob.motion as motion
@@ -547,8 +548,8 @@ API = [
         examples=2,
     ),
     # kernel-free live widgets (probrob._live): defaults are valid; every argument rejected
-    Api(widgets.standard_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
-    Api(widgets.landmark_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
+    Api(live.standard_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
+    Api(live.landmark_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
     Api(
         widgets.velocity_model_live,
         "widget",
