@@ -27,7 +27,8 @@ shortest example). The Python function calls :func:`live_widget` with the kernel
 files are package data, read when a widget is made and inlined into its HTML. A model whose
 picture is a curve of one variable, such as the beam model's :math:`p(z \mid z^*)` with its
 six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histogram of its
-samples): :func:`distribution_live` (Table 5.2, ``distribution.js``) is the example.
+samples): :func:`beam_model_live` (``beam.js``) and :func:`distribution_live` (Table 5.2,
+``distribution.js``).
 
 Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
@@ -66,6 +67,7 @@ __all__ = [
     "Choice",
     "LiveWidget",
     "Slider",
+    "beam_model_live",
     "distribution_live",
     "landmark_draws",
     "landmark_model_live",
@@ -155,9 +157,8 @@ def standard_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
     draws : dict
         ``{"normal": ndarray (3, n), "triangular": ndarray (3, n)}``.
     """
-    if not (isinstance(n, int | np.integer) and n >= 1):
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    rng = np.random.default_rng(rng)
+    n = check.count(n, "n", 1)
+    rng = check.rng(rng)
     return {
         name: sampler(1.0, size=(3, int(n)), rng=rng)
         for name, (_, sampler) in DISTRIBUTIONS.items()
@@ -186,9 +187,8 @@ def landmark_draws(n=2000, rng=0) -> dict[str, np.ndarray]:
     draws : dict
         ``{"normal": ndarray (3, n), "gamma": ndarray (1, n)}``.
     """
-    if not (isinstance(n, int | np.integer) and n >= 1):
-        raise ValueError(f"n must be a positive integer, got {n!r}")
-    rng = np.random.default_rng(rng)
+    n = check.count(n, "n", 1)
+    rng = check.rng(rng)
     z = sample_normal_distribution(1.0, size=(3, int(n)), rng=rng)
     return {"normal": z, "gamma": rng.uniform(0.0, 2.0 * np.pi, size=(1, int(n)))}
 
@@ -265,7 +265,8 @@ def live_widget(
     draws : dict of ndarray (k, n), optional
         Draws by name (``n = n_particles``): the kernel's ``sample`` gets the one named by the
         ``distribution`` choice and all of them; default :func:`standard_draws`
-        ``(n_particles, rng)``.
+        ``(n_particles, rng)``. A kernel that draws no samples takes ``{}`` and
+        ``n_particles=0``.
     constants : dict of float, optional
         Fixed parameters the kernel reads like slider values (e.g. a landmark's position).
     n_particles, grid, headings : int
@@ -283,14 +284,12 @@ def live_widget(
         kernel_js = _asset(f"{kernel}.js")
     except (FileNotFoundError, OSError) as exc:
         raise ValueError(f"kernel must name a file {_ASSETS}/<kernel>.js, got {kernel!r}") from exc
-    for name, value, lo in (
-        ("n_particles", n_particles, 1),
-        ("grid", grid, 2),
-        ("headings", headings, 0),
-    ):
-        if not (isinstance(value, int | np.integer) and value >= lo):
-            raise ValueError(f"{name} must be an integer >= {lo}, got {value!r}")
+    n_particles = check.count(n_particles, "n_particles", 0)
+    grid = check.count(grid, "grid", 2)
+    headings = check.count(headings, "headings", 0)
     if draws is None:
+        if n_particles < 1:
+            raise ValueError(f"n_particles must be >= 1 with the default draws, got {n_particles}")
         draws = standard_draws(n_particles, rng)
     draws = {k: check.finite(v, f"draws[{k!r}]") for k, v in draws.items()}
     for k, v in draws.items():
@@ -311,7 +310,7 @@ def live_widget(
                 f"{c.name} must be one of {[v for v, _ in c.options]}, got {c.value!r}"
             )
     families = [v for c in choices if c.name == "distribution" for v, _ in c.options]
-    if not set(families or ["normal"]) <= set(draws):
+    if draws and not set(families or ["normal"]) <= set(draws):
         raise ValueError(f"every distribution needs its draws, have {sorted(draws)}")
 
     wid = f"probrob-live-{kernel}-{next(_COUNTER)}"
@@ -364,6 +363,8 @@ mountLiveWidget(root, config, kernels[config.kernel]);
 
 def _alpha_sliders(alpha, count):
     alpha = check.alphas(alpha, "alpha", count)
+    if np.any(alpha > 0.5):
+        raise ValueError(f"alpha must lie in [0, 0.5] (the sliders' range), got {alpha.tolist()}")
     return [
         Slider(f"a{k + 1}", f"α{k + 1}", float(alpha[k]), 0.0, 0.5, 0.001) for k in range(count)
     ]
@@ -386,10 +387,7 @@ def _common_choices(distribution, noise, density):
 
 
 def _in_range(value, name, lo, hi):
-    value = check.finite(value, name)
-    if value.ndim != 0 or not lo <= value <= hi:
-        raise ValueError(f"{name} must be a number in [{lo}, {hi}], got {value!r}")
-    return float(value)
+    return check.in_range(value, name, lo, hi)
 
 
 def velocity_model_live(
@@ -566,10 +564,14 @@ def landmark_model_live(
     -------
     widget : LiveWidget
     """
+    n_particles = check.count(n_particles, "n_particles", 1)
     sigmas = check.finite(sigmas, "sigmas")
     if sigmas.shape != (3,):
         raise ValueError(f"sigmas must hold (σ_r, σ_φ, σ_s), got shape {sigmas.shape}")
-    mx, my, ms = check.vectors(landmark, "landmark", 3, "x, y, s")
+    landmark = check.vectors(landmark, "landmark", 3, "x, y, s")
+    if landmark.shape != (3,):
+        raise ValueError(f"landmark must be one row (x, y, s), got shape {landmark.shape}")
+    mx, my, ms = landmark
     sliders = [
         Slider("r", "r [m]", _in_range(r, "r", 0, 5), 0.0, 5.0, 0.01),
         Slider("phi", "φ [rad]", _in_range(phi, "phi", -3.14, 3.14), -3.14, 3.14, 0.01),
@@ -648,4 +650,78 @@ def distribution_live(*, b2=1.0, distribution="normal", n_particles=2000, grid=2
         n_particles=n_particles,
         grid=grid,
         rng=rng,
+    )
+
+
+def beam_model_live(
+    *,
+    z_star=5.0,
+    weights=(0.7, 0.15, 0.05, 0.1),
+    sigma_hit=0.2,
+    lambda_short=0.6,
+    max_range=10.0,
+    grid=400,
+) -> LiveWidget:
+    r"""Return a live widget of the beam model's :math:`p(z \mid z^*)` (Table 6.1, lines 5-6).
+
+    Sliders for the expected range :math:`z^*`, the four mixing weights
+    :math:`(z_{hit}, z_{short}, z_{max}, z_{rand})` (the widget divides them by their sum, as
+    the title shows), :math:`\sigma_{hit}` and :math:`\lambda_{short}`; the curve is
+    :func:`~probrob.sensors.beam_mixture` over :math:`[0, z_{max})` (the point mass at
+    :math:`z_{max}` has the weight :math:`z_{max}`). No samples: the library's sampler inverts
+    the normal CDF, which the page does not carry.
+
+    Parameters
+    ----------
+    z_star : float
+        Expected range, in [0, max_range].
+    weights : array_like, shape (4,)
+        Initial mixing weights, each in [0, 1] (normalised by their sum).
+    sigma_hit, lambda_short : float
+        In [0.01, 1] m and [0.05, 5] 1/m.
+    max_range : float
+        The sensor's maximum range, m (fixed).
+    grid : int
+        Points of the curve.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    zmax = check.positive_scalar(max_range, "max_range")
+    weights = check.finite(weights, "weights")
+    if weights.shape != (4,):
+        raise ValueError(f"weights must hold (z_hit, z_short, z_max, z_rand), got {weights.shape}")
+    names = ("whit", "wshort", "wmax", "wrand")
+    labels = ("z_hit", "z_short", "z_max", "z_rand")
+    sliders = [
+        Slider("zstar", "z* [m]", _in_range(z_star, "z_star", 0, zmax), 0.0, zmax, 0.01),
+        *(
+            Slider(n, lab, _in_range(w, f"weights[{k}]", 0, 1), 0.0, 1.0, 0.01)
+            for k, (n, lab, w) in enumerate(zip(names, labels, weights, strict=True))
+        ),
+        Slider("sigma", "σ_hit [m]", _in_range(sigma_hit, "sigma_hit", 0.01, 1), 0.01, 1.0, 0.01),
+        Slider(
+            "lambda",
+            "λ_short [1/m]",
+            _in_range(lambda_short, "lambda_short", 0.05, 5),
+            0.05,
+            5.0,
+            0.01,
+        ),
+    ]
+    return live_widget(
+        "beam",
+        sliders,
+        title="Beam model p(z | z*) (Table 6.1)",
+        caption=(
+            "Blue: the mixture z_hit p_hit + z_short p_short + z_rand p_rand of Table 6.1 over "
+            "[0, z_max), in 1/m; the weights are the sliders divided by their sum. The point "
+            "mass z_max at z = z_max is not drawn."
+        ),
+        aria_label="Plot of the beam model's density of a measured range z given the expected range.",
+        draws={},
+        constants={"zmax": zmax},
+        n_particles=0,
+        grid=grid,
     )

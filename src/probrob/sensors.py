@@ -639,7 +639,7 @@ def sample_beam_mixture(z_star, params, size=None, rng=None):
     p = _check_params(params)
     z_star = _check_expected(z_star, p.max_range)
     shape = check.output_shape(z_star.shape, size)
-    rng = np.random.default_rng(rng)
+    rng = check.rng(rng)
     zs = np.broadcast_to(z_star, shape)
     comp = rng.choice(4, size=shape, p=p.weights / p.weights.sum())
     u = rng.random(shape)
@@ -831,8 +831,7 @@ def learn_intrinsic_parameters(
     e_step = check.choice(e_step, "e_step", ("weighted", "deck"))
     m_step = check.choice(m_step, "m_step", ("exact", "book"))
     tol = check.positive_scalar(tol, "tol")
-    if not (isinstance(max_iter, int | np.integer) and max_iter >= 1):
-        raise ValueError(f"max_iter must be a positive integer, got {max_iter!r}")
+    max_iter = check.count(max_iter, "max_iter", minimum=1)
     at_max = z >= max_range
     if init is None:
         dev = np.abs(z - z_star)[~at_max]

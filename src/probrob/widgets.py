@@ -465,29 +465,22 @@ def alpha_player(
     )
 
 
-# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live) ----------
+# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live, where the
+# generic pieces for a new widget live: Slider, Choice, LiveWidget, standard_draws) ----------
 from ._live import (  # noqa: E402
-    Choice,
-    LiveWidget,
-    Slider,
+    beam_model_live,
     distribution_live,
-    landmark_draws,
     landmark_model_live,
     live_widget,
     odometry_model_live,
-    standard_draws,
     velocity_model_live,
 )
 
 __all__ += [
-    "Choice",
-    "LiveWidget",
-    "Slider",
+    "beam_model_live",
     "distribution_live",
-    "landmark_draws",
     "landmark_model_live",
     "live_widget",
     "odometry_model_live",
-    "standard_draws",
     "velocity_model_live",
 ]
