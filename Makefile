@@ -128,6 +128,7 @@ lab: $(STAMP)
 bench: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_motion.py
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_sensors.py
+	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_filters.py
 
 # ---- cleaning ----------------------------------------------------------------------------
 clean:

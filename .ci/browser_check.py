@@ -6,15 +6,23 @@ For every page it checks that
     ``\\(`` or ``\\[`` left in the visible text outside code blocks);
   * the plots are there (``<img>`` in cell outputs with a non-zero natural size, no broken image
     anywhere on the page);
+  * the figures are readable: no figure or player image is shrunk by the page below its own size
+    (a shrunk image shrinks its tick labels with it; ``probrob.plotting.use_book_style`` sizes
+    figures for the column with 9-pt = 12.5-px tick labels), none is wider than the text column,
+    every ``<img>`` has an ``alt`` text and every player slider a label;
   * every ``to_jshtml`` animation player changes its frame when its "Next frame" button is
     clicked, and again while "Play" runs;
+  * every live widget redraws when two of its sliders are moved with the keyboard, updates
+    within 16 ms and weighs at most 200 kB (``.ci/live_widgets_check.py``);
   * the page loads nothing from outside the local server (no external script, stylesheet, font,
     image) and throws no JavaScript error;
-and saves a screenshot to ``_build/screenshots/<page>.png``.
+and saves screenshots to ``_build/screenshots/<page>.png`` (a page taller than
+``--max-shot-height`` continues in ``<page>-2.png``, ...).
 
 Only the standard library is used: Chromium is driven through its DevTools protocol over a pipe
-(``--remote-debugging-pipe``), the book is served by ``http.server`` on 127.0.0.1 (or opened as
-file:// URLs with ``--file-urls``, as a reader opening index.html would).
+(``--remote-debugging-pipe``; the driver is ``.ci/cdp.py``), the book is served by
+``http.server`` on 127.0.0.1 (or opened as file:// URLs with ``--file-urls``, as a reader
+opening index.html would).
 
 Usage:  python .ci/browser_check.py [PAGE.html ...] [--min-players 0] [--file-urls] ...
 PAGE is relative to the HTML folder (default: every notebook chapter listed in _toc.yml).
@@ -26,47 +34,24 @@ from __future__ import annotations
 import argparse
 import base64
 import contextlib
-import fcntl
-import functools
-import http.server
 import json
-import os
 import re
-import shutil
-import signal
 import subprocess
 import sys
-import tempfile
-import threading
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+# The DevTools-pipe driver, shared with tests/test_live_widgets.py, and the live widgets' check
+# (this script's folder is on sys.path when it runs as a script).
+from cdp import Browser, CheckError, find_chromium, serve
+from live_widgets_check import check_live_widgets
 
-CHROMIUM_FLAGS = [
-    "--headless",
-    "--no-sandbox",
-    "--disable-gpu",
-    "--disable-background-networking",
-    "--disable-component-update",
-    "--no-first-run",
-    "--disable-sync",
-    "--disable-quic",
-    "--disable-extensions",
-    "--disable-default-apps",
-    "--hide-scrollbars",
-    "--mute-audio",
-    "--remote-debugging-pipe",
-]
+ROOT = Path(__file__).resolve().parent.parent
 
 
 # sphinx-thebe (always loaded by Jupyter Book 1) adds its config script twice on every page; the
 # second `const` declaration throws. Harmless (thebe is off) and not ours, so it is tolerated.
 KNOWN_JS_ERROR = "Identifier 'THEBE_JS_URL' has already been declared"
-
-
-class CheckError(Exception):
-    pass
 
 
 # --------------------------------------------------------------------------------------------
@@ -83,168 +68,6 @@ def toc_notebook_pages(root: Path) -> list[str]:
         if (root / f"{stem}.ipynb").is_file():
             pages.append(f"{stem}.html")
     return pages
-
-
-# --------------------------------------------------------------------------------------------
-# A local web server for the built book
-
-
-class QuietHandler(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, format, *args):
-        pass
-
-
-@contextlib.contextmanager
-def serve(directory: Path):
-    handler = functools.partial(QuietHandler, directory=str(directory))
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}"
-    finally:
-        server.shutdown()
-        server.server_close()
-
-
-# --------------------------------------------------------------------------------------------
-# Chromium over the DevTools pipe: fd 3 = commands to the browser, fd 4 = its replies.
-
-
-def find_chromium(explicit: str | None) -> str:
-    candidates = [explicit] if explicit else []
-    # Debian's /usr/bin/chromium is a shell wrapper that execs the real binary; use the binary.
-    candidates += ["/usr/lib/chromium/chromium", "chromium", "chromium-browser", "google-chrome"]
-    for c in candidates:
-        if c and (path := shutil.which(c) or (c if os.access(c, os.X_OK) else None)):
-            return path
-    raise CheckError("Chromium not found: apt-get install -y chromium (or pass --chromium)")
-
-
-class Browser:
-    def __init__(self, executable: str, timeout: float):
-        self.timeout = timeout
-        self.profile = tempfile.mkdtemp(prefix="probrob-chromium-")
-        to_browser_r, to_browser_w = os.pipe()
-        from_browser_r, from_browser_w = os.pipe()
-        # The child reads commands on fd 3 and writes replies on fd 4. Move its ends above 9 first,
-        # so that the dup2 calls cannot clobber one with the other.
-        child_r = fcntl.fcntl(to_browser_r, fcntl.F_DUPFD_CLOEXEC, 10)
-        child_w = fcntl.fcntl(from_browser_w, fcntl.F_DUPFD_CLOEXEC, 10)
-
-        def setup_fds():
-            os.dup2(child_r, 3)  # dup2 makes 3 and 4 inheritable; every other fd is close-on-exec
-            os.dup2(child_w, 4)
-
-        args = [executable, *CHROMIUM_FLAGS, f"--user-data-dir={self.profile}", "about:blank"]
-        self.log = tempfile.TemporaryFile()  # noqa: SIM115 -- lives as long as the browser
-        self.proc = subprocess.Popen(
-            args,
-            stdin=subprocess.DEVNULL,
-            stdout=self.log,
-            stderr=self.log,
-            close_fds=False,  # closing would happen after setup_fds and close 3 and 4 again
-            preexec_fn=setup_fds,  # runs before this script starts any thread
-            start_new_session=True,  # own process group: the browser and all its helpers
-        )
-        for fd in (to_browser_r, from_browser_w, child_r, child_w):
-            os.close(fd)
-        self.wfile = os.fdopen(to_browser_w, "wb", buffering=0)
-        self.rfd = from_browser_r
-        self.next_id = 0
-        self.pending: dict[int, dict] = {}
-        self.events: list[dict] = []
-        self.cond = threading.Condition()
-        self.closed = False
-        self.reader = threading.Thread(target=self._read, daemon=True)
-        self.reader.start()
-
-    def _read(self):
-        buf = b""
-        while True:
-            try:
-                chunk = os.read(self.rfd, 1 << 20)
-            except OSError:
-                chunk = b""
-            if not chunk:
-                with self.cond:
-                    self.closed = True
-                    self.cond.notify_all()
-                return
-            buf += chunk
-            *messages, buf = buf.split(b"\0")
-            with self.cond:
-                for raw in messages:
-                    msg = json.loads(raw)
-                    if "id" in msg:
-                        self.pending[msg["id"]] = msg
-                    else:
-                        self.events.append(msg)
-                self.cond.notify_all()
-
-    def send(
-        self,
-        method: str,
-        params: dict | None = None,
-        session: str | None = None,
-        timeout: float | None = None,
-    ) -> dict:
-        with self.cond:
-            self.next_id += 1
-            mid = self.next_id
-        msg = {"id": mid, "method": method, "params": params or {}}
-        if session:
-            msg["sessionId"] = session
-        self.wfile.write(json.dumps(msg).encode() + b"\0")
-        deadline = time.monotonic() + (timeout or self.timeout)
-        with self.cond:
-            while mid not in self.pending:
-                if self.closed:
-                    raise CheckError(f"Chromium exited during {method}:\n{self.output()}")
-                left = deadline - time.monotonic()
-                if left <= 0:
-                    raise CheckError(f"no answer from Chromium to {method}")
-                self.cond.wait(left)
-            reply = self.pending.pop(mid)
-        if "error" in reply:
-            raise CheckError(f"{method} failed: {reply['error']}")
-        return reply.get("result", {})
-
-    def wait_event(self, method: str, session: str, timeout: float, since: int = 0) -> dict:
-        """Wait for an event of this session, among those received after index ``since``."""
-        deadline = time.monotonic() + timeout
-        with self.cond:
-            while True:
-                for ev in self.events[since:]:
-                    if ev.get("method") == method and ev.get("sessionId") == session:
-                        return ev
-                left = deadline - time.monotonic()
-                if left <= 0 or self.closed:
-                    raise CheckError(f"timed out waiting for {method}")
-                self.cond.wait(left)
-
-    def output(self) -> str:
-        self.log.seek(0)
-        return self.log.read().decode(errors="replace")[-4000:]
-
-    def close(self):
-        with contextlib.suppress(Exception):
-            self.send("Browser.close", timeout=10)
-        try:
-            self.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            # Stop the real browser and its helpers: the process group this script created.
-            with contextlib.suppress(ProcessLookupError):
-                os.killpg(self.proc.pid, signal.SIGTERM)
-            try:
-                self.proc.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                with contextlib.suppress(ProcessLookupError):
-                    os.killpg(self.proc.pid, signal.SIGKILL)
-                self.proc.wait()
-        with contextlib.suppress(Exception):
-            self.wfile.close()
-        shutil.rmtree(self.profile, ignore_errors=True)
 
 
 # --------------------------------------------------------------------------------------------
@@ -302,6 +125,33 @@ JS_SURVEY = r"""
     players: document.querySelectorAll('img[id^="_anim_img"]').length,
     height: Math.ceil(document.documentElement.scrollHeight),
   };
+})()
+"""
+
+# Figure readability: the displayed size of every plot and player image against its natural
+# (intended) size and against the width of the text column; alt texts and slider labels.
+JS_FIGURES = r"""
+(() => {
+  const article = document.querySelector("article.bd-article") || document.querySelector("main")
+    || document.body;
+  const style = getComputedStyle(article);
+  const column = article.clientWidth - parseFloat(style.paddingLeft)
+    - parseFloat(style.paddingRight);
+  const figures = Array.from(document.querySelectorAll(".cell_output img"))
+    .filter(im => im.complete && im.naturalWidth > 0)
+    .map((im, k) => {
+      const r = im.getBoundingClientRect();
+      return {k: k, player: im.id.startsWith("_anim_img"), natural: im.naturalWidth,
+              shown: Math.round(r.width * 10) / 10, scale: r.width / im.naturalWidth,
+              src: (im.getAttribute("src") || "").slice(0, 60)};
+    });
+  const noAlt = Array.from(document.querySelectorAll("article img"))
+    .filter(im => !(im.getAttribute("alt") || "").trim())
+    .map(im => (im.id || im.getAttribute("src") || "").slice(0, 60));
+  const unlabelled = Array.from(document.querySelectorAll(".animation input[type=range]"))
+    .filter(el => !el.getAttribute("aria-label") && !(el.labels && el.labels.length))
+    .map(el => el.id.slice(0, 30));
+  return {column: Math.round(column), figures: figures, noAlt: noAlt, unlabelled: unlabelled};
 })()
 """
 
@@ -416,6 +266,38 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
     if info["broken"]:
         failures.append(f"images: broken {info['broken'][:5]}")
 
+    # Figure readability
+    fig = p.js(JS_FIGURES)
+    figures = fig["figures"]
+    if figures:
+        smallest = min(figures, key=lambda f: f["scale"])
+        widest = max(figures, key=lambda f: f["natural"])
+        print(
+            f"  figures: {len(figures)} images (plots and players) in a {fig['column']}-px "
+            f"column; widest {widest['natural']} px; smallest display scale "
+            f"{smallest['scale']:.3f} (image {smallest['k'] + 1}); "
+            f"{len(fig['noAlt'])} without alt text, {len(fig['unlabelled'])} unlabelled sliders"
+        )
+    shrunk = [f for f in figures if f["scale"] < args.min_figure_scale]
+    if shrunk:
+        failures.append(
+            f"figures: {len(shrunk)} shrunk by the page below {args.min_figure_scale:.0%} of "
+            "their size (their text shrinks with them): "
+            + ", ".join(
+                f"image {f['k'] + 1} {f['natural']} px shown at {f['shown']}" for f in shrunk[:5]
+            )
+        )
+    too_wide = [f for f in figures if f["natural"] > fig["column"]]
+    if too_wide:
+        failures.append(
+            f"figures: {len(too_wide)} wider than the {fig['column']}-px column: "
+            + ", ".join(f"image {f['k'] + 1} ({f['natural']} px)" for f in too_wide[:5])
+        )
+    if fig["noAlt"]:
+        failures.append(f"accessibility: images without alt text {fig['noAlt'][:5]}")
+    if fig["unlabelled"]:
+        failures.append(f"accessibility: player sliders without a label {fig['unlabelled'][:5]}")
+
     # Players
     for k in range(info["players"]):
         # Step: first frame, then "Next frame" must show a different image (frame 1).
@@ -453,23 +335,32 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
             f"players: {info['players']} to_jshtml players, expected >= {args.min_players}"
         )
 
-    # Screenshot of the whole page (up to --max-shot-height), after the players were used: the
-    # viewport is made as tall as the page, so the fixed sidebars are laid out as a reader sees.
+    # Live widgets (probrob.widgets.*_live): two sliders moved by keyboard on each, the canvas
+    # redrawn; update time and HTML size against their budgets (.ci/live_widgets_check.py)
+    live_lines, live_failures = check_live_widgets(p)
+    for line in live_lines:
+        print(f"  {line}")
+    failures += live_failures
+
+    # Screenshots of the whole page, after the players were used: the viewport is made as tall
+    # as the page (up to --max-shot-height), so the fixed sidebars are laid out as a reader sees;
+    # a taller page is scrolled and saved in further parts, <page>-2.png, <page>-3.png, ...
     height = min(info["height"], args.max_shot_height)
     p.send(
         "Emulation.setDeviceMetricsOverride",
         {"width": args.width, "height": height, "deviceScaleFactor": 1, "mobile": False},
     )
-    p.js("window.scrollTo(0, 0)")
-    time.sleep(0.5)
-    shot = p.send("Page.captureScreenshot", {"format": "png"}, timeout=120)
     shots.mkdir(parents=True, exist_ok=True)
-    out = shots / (Path(page).stem + ".png")
-    out.write_bytes(base64.b64decode(shot["data"]))
-    print(
-        f"  screenshot: {out.relative_to(ROOT) if out.is_relative_to(ROOT) else out} "
-        f"({args.width}x{height})"
-    )
+    for part, top in enumerate(range(0, info["height"], height)):
+        p.js(f"window.scrollTo(0, {top})")
+        time.sleep(0.5)
+        shot = p.send("Page.captureScreenshot", {"format": "png"}, timeout=120)
+        out = shots / (Path(page).stem + (f"-{part + 1}" if part else "") + ".png")
+        out.write_bytes(base64.b64decode(shot["data"]))
+        print(
+            f"  screenshot: {out.relative_to(ROOT) if out.is_relative_to(ROOT) else out} "
+            f"({args.width}x{height}, from y = {top})"
+        )
 
     # Network and JavaScript errors, from the events gathered during the whole visit
     with browser.cond:
@@ -532,6 +423,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--min-math", type=int, default=1, help="typeset formulas per page")
     ap.add_argument("--min-images", type=int, default=2, help="rendered plot images per page")
     ap.add_argument("--min-players", type=int, default=1, help="to_jshtml players per page")
+    ap.add_argument(
+        "--min-figure-scale",
+        type=float,
+        default=0.98,
+        help="smallest displayed/natural width of a figure image (1 = shown at its own size)",
+    )
     ap.add_argument("--timeout", type=float, default=60.0, help="seconds per page load / wait")
     ap.add_argument("--width", type=int, default=1280)
     ap.add_argument("--height", type=int, default=1600)

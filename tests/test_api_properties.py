@@ -72,6 +72,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
+import probrob._live as live
 import probrob.angles as angles
 import probrob.distributions as distributions
 import probrob.motion as motion
@@ -297,6 +298,13 @@ def _seed_only(batch):
 
 
 SEED = Arg(_seed_only, 0, BAD_RNG)  # plotting keeps an int seed (every frame redraws it)
+
+# the live widgets' arguments (probrob._live: the ranges of their sliders)
+LIVE_THETA = Arg(constant(0.0), 0.0, [(3.2, ValueError), *BAD_SCALAR])
+LIVE_DISTRIBUTION = Arg(choices("normal", "triangular"), "normal", BAD_CHOICE)
+LIVE_DENSITY = Arg(choices("xy", "pose", "book"), "xy", BAD_CHOICE)
+LIVE_PARTICLES = Arg(lambda batch: st.integers(1, 30), 20, [(0, ValueError), *BAD_COUNT])
+LIVE_GRID = Arg(lambda batch: st.integers(2, 12), 8, [(1, ValueError), *BAD_COUNT])
 
 
 # --------------------------------------------------------------------------- row helpers
@@ -540,8 +548,8 @@ API = [
         examples=2,
     ),
     # kernel-free live widgets (probrob._live): defaults are valid; every argument rejected
-    Api(widgets.standard_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
-    Api(widgets.landmark_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
+    Api(live.standard_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
+    Api(live.landmark_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
     Api(
         widgets.velocity_model_live,
         "widget",
@@ -603,6 +611,127 @@ API = [
         alpha=ALPHAS6,
         u_t=Arg(constant([1.0, 0.5]), [1.0, 0.5], bad_vectors(2)),
         skip_valid=True,
+    ),
+    # the book's figure style, the diagrams of Tables 5.1 / 5.5 and the generic player (i9).
+    # use_book_style changes matplotlib's global settings: listed, never called here.
+    Api(plotting.book_style, "widget", skip_valid=True),
+    Api(plotting.use_book_style, "widget", skip_valid=True),
+    Api(plotting.plot_velocity_geometry, "plot", x_prev=POSE, x_t=POSE, dt=DT, examples=5),
+    Api(plotting.plot_odometry_deltas, "plot", xbar_prev=POSE, xbar_t=POSE, examples=5),
+    Api(
+        widgets.parameter_player,
+        "widget",
+        draw=Arg(constant(lambda ax, value: None), lambda ax, value: None, BAD_CALLABLE),
+        values=Arg(constant([0.0, 1.0]), [0.0, 1.0], [([], ValueError)]),
+        label=Arg(constant("x"), "x", [("", ValueError), (3, ValueError), (None, ValueError)]),
+        skip_valid=True,
+    ),
+    # the live widgets (i10): every argument checked against its slider's range; a valid call
+    # builds the HTML of a small widget (the JavaScript itself is tested in test_live_widgets)
+    Api(
+        widgets.velocity_model_live,
+        "widget",
+        v=Arg(constant(1.0), 1.0, [(2.5, ValueError), *BAD_SCALAR]),
+        w=Arg(constant(0.8), 0.8, [(-2.5, ValueError), *BAD_SCALAR]),
+        dt=Arg(constant(1.0), 1.0, [(0.0, ValueError), (5.0, ValueError), *BAD_SCALAR]),
+        theta=LIVE_THETA,
+        alpha=Arg(constant([0.02] * 6), [0.02] * 6, [([0.6] + [0.02] * 5, ValueError)]),
+        distribution=LIVE_DISTRIBUTION,
+        noise=NOISE,
+        density=LIVE_DENSITY,
+        n_particles=LIVE_PARTICLES,
+        grid=LIVE_GRID,
+        rng=SEED,
+        examples=3,
+    ),
+    Api(
+        widgets.odometry_model_live,
+        "widget",
+        rot1=Arg(constant(0.6), 0.6, [(3.2, ValueError), *BAD_SCALAR]),
+        trans=Arg(constant(1.0), 1.0, [(-0.1, ValueError), (3.5, ValueError), *BAD_SCALAR]),
+        rot2=Arg(constant(-0.4), -0.4, [(-3.2, ValueError), *BAD_SCALAR]),
+        theta=LIVE_THETA,
+        alpha=Arg(constant([0.05] * 4), [0.05] * 4, [([0.05, 0.9, 0.05, 0.05], ValueError)]),
+        distribution=LIVE_DISTRIBUTION,
+        noise=NOISE,
+        density=LIVE_DENSITY,
+        n_particles=LIVE_PARTICLES,
+        grid=LIVE_GRID,
+        rng=SEED,
+        examples=3,
+    ),
+    Api(
+        widgets.landmark_model_live,
+        "widget",
+        r=Arg(constant(2.0), 2.0, [(-0.1, ValueError), (6.0, ValueError), *BAD_SCALAR]),
+        phi=Arg(constant(0.5), 0.5, [(3.2, ValueError), *BAD_SCALAR]),
+        s=Arg(constant(1.0), 1.0, [(-1.0, ValueError), *BAD_SCALAR]),
+        sigmas=Arg(
+            constant([0.1, 0.05, 0.2]),
+            [0.1, 0.05, 0.2],
+            [
+                ([0.1, 0.1], ValueError),
+                ([1.5, 0.1, 0.1], ValueError),
+                ([-0.1, 0.1, 0.1], ValueError),
+                ([np.nan] * 3, ValueError),
+                ([1j] * 3, TypeError),
+                (None, ValueError),
+            ],
+        ),
+        theta=LIVE_THETA,
+        landmark=Arg(constant([0.0, 0.0, 1.0]), [0.0, 0.0, 1.0], bad_vectors(3)),
+        n_particles=LIVE_PARTICLES,
+        grid=LIVE_GRID,
+        rng=SEED,
+        examples=3,
+    ),
+    Api(
+        widgets.beam_model_live,
+        "widget",
+        z_star=Arg(constant(5.0), 5.0, [(-0.1, ValueError), (11.0, ValueError), *BAD_SCALAR]),
+        weights=Arg(
+            constant([0.7, 0.15, 0.05, 0.1]),
+            [0.7, 0.15, 0.05, 0.1],
+            [
+                ([0.5] * 3, ValueError),
+                ([1.5, 0.0, 0.0, 0.0], ValueError),
+                ([np.nan] * 4, ValueError),
+                ([1j] * 4, TypeError),
+                (None, ValueError),
+            ],
+        ),
+        sigma_hit=Arg(constant(0.2), 0.2, [(0.0, ValueError), (2.0, ValueError), *BAD_SCALAR]),
+        lambda_short=Arg(constant(0.6), 0.6, [(0.0, ValueError), (9.0, ValueError)]),
+        max_range=Arg(constant(10.0), 10.0, BAD_POSITIVE),
+        grid=LIVE_GRID,
+        examples=3,
+    ),
+    Api(
+        widgets.distribution_live,
+        "widget",
+        b2=Arg(constant(1.0), 1.0, [(0.0, ValueError), (5.0, ValueError), *BAD_SCALAR]),
+        distribution=LIVE_DISTRIBUTION,
+        n_particles=LIVE_PARTICLES,
+        grid=LIVE_GRID,
+        rng=SEED,
+        examples=3,
+    ),
+    Api(
+        widgets.live_widget,
+        "widget",
+        kernel=Arg(
+            constant("velocity"),
+            "velocity",
+            [("ackermann", ValueError), (3, ValueError), (None, ValueError)],
+        ),
+        sliders=Arg(constant([]), [], []),
+        title=Arg(constant("t"), "t", []),
+        caption=Arg(constant("c"), "c", []),
+        aria_label=Arg(constant("a"), "a", []),
+        n_particles=LIVE_PARTICLES,
+        grid=LIVE_GRID,
+        rng=SEED,
+        examples=2,
     ),
 ]
 

@@ -195,6 +195,42 @@ def test_small_steps_converge_to_the_exact_arc_with_their_order(method, order):
         np.testing.assert_allclose(end, exact, atol=1e-12)
 
 
+def test_odometry_error_shrinks_with_dt_with_the_order_of_the_step_rule():
+    """The Turkish lecture's claim, measured: wheel speeds that vary within each step."""
+    from scipy.integrate import solve_ivp
+
+    d, t_end = 0.5, 10.0
+
+    def distance(t):  # ∫ v, v = 0.5 + 0.2 sin 0.7t
+        return 0.5 * t + (0.2 / 0.7) * (1 - np.cos(0.7 * t))
+
+    def heading(t):  # ∫ ω, ω = 0.6 sin 0.5t
+        return 1.2 * (1 - np.cos(0.5 * t))
+
+    truth = solve_ivp(
+        lambda t, p: (
+            (0.5 + 0.2 * np.sin(0.7 * t)) * np.array([np.cos(heading(t)), np.sin(heading(t))])
+        ),
+        (0.0, t_end),
+        [0.0, 0.0],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-12,
+    ).y[:, -1]
+    steps = t_end / np.array([40, 80, 160, 320, 640])
+    for method, order in [("euler", 1), ("midpoint", 2), ("arc", 2)]:
+        errors = []
+        for dt in steps:
+            t = np.linspace(0.0, t_end, round(t_end / dt) + 1)
+            left, right = distance(t) - heading(t) * d / 2, distance(t) + heading(t) * d / 2
+            ds, dth, _ = diff_drive_odometry(np.diff(left), np.diff(right), d)
+            end = dead_reckon([0.0, 0.0, 0.0], ds, dth, method=method)[-1]
+            errors.append(np.hypot(*(end[:2] - truth)))
+            assert abs(end[2] - heading(t_end)) < 1e-12  # the heading telescopes: no Δt error
+        slope = np.polyfit(np.log(steps), np.log(errors), 1)[0]
+        assert slope == pytest.approx(order, abs=0.1), method
+
+
 def test_dead_reckon_equals_repeated_arc_updates_and_broadcasts():
     rng = np.random.default_rng(2)
     ds, dth = rng.uniform(-0.3, 0.3, (2, 4, 50))
@@ -444,8 +480,35 @@ def test_batches_equal_one_at_a_time(shape):
         (lambda: cir_step_transform([1.0, 0.5], -1.0), "wheelbase"),
         (lambda: cir_radius_angle([[1.0, 0.5]] * 3, [0.3, 0.4]), "wheelbase"),
         (lambda: cir_pose_matrix([0.0, 0.0, 0.0, 0.0]), "x"),
+        (lambda: cir_state_function(np.zeros((2, 3)), np.ones((3, 2)), 0.3), "x_prev"),
+        (lambda: cir_state_jacobians(np.zeros((2, 3)), np.ones((3, 2)), 0.3), "x_prev"),
+        (lambda: dead_reckon([0.0, 0.0, 0.0], np.ones((2, 4)), np.ones((3, 4))), "ds"),
+        # finite input whose result overflows float64: named, not inf or a RuntimeWarning
+        (
+            lambda: (
+                arc_update([0.0, 0.0, 0.0], 1e308, 0.0) * 0 + arc_update([1e308, 0, 0], 1e308, 0.0)
+            ),
+            "ds",
+        ),
+        (lambda: tricycle_odometry(1e300, 0.5, 1e-10), "d_front|wheelbase"),
+        (lambda: diff_drive_odometry(1.5e308, 1.5e308, 1.0), "ds_left|ds_right"),
+        (lambda: cir_state_function([0.0, 0.0, 0.0], [1.0, 0.5], 1e-320), "wheelbase|u"),
+        (lambda: dead_reckon([0.0, 0.0, 0.0], [1e308, 1e308], [0.0, 0.0]), "ds"),
     ],
 )
 def test_bad_input_raises_value_error_naming_the_argument(call, name):
     with pytest.raises(ValueError, match=name):
+        call()
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: diff_drive_odometry(1j, 1.0, 0.3),
+        lambda: arc_update([0.0, 0.0, 1j], 1.0, 0.1),
+        lambda: cir_state_function([0.0, 0.0, 0.0], [1.0, 1j], 0.3),
+    ],
+)
+def test_complex_input_raises_type_error(call):
+    with pytest.raises(TypeError, match="real"):
         call()

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from probrob._live import LiveWidget, landmark_draws, standard_draws
 from probrob.distributions import (
     prob_normal_distribution,
     prob_triangular_distribution,
@@ -34,16 +35,17 @@ from probrob.motion import (
     sample_motion_model_velocity,
 )
 from probrob.sensors import (
+    BeamModelParams,
+    beam_mixture,
     landmark_model_known_correspondence,
     sample_landmark_model_known_correspondence,
 )
 from probrob.widgets import (
-    LiveWidget,
-    landmark_draws,
+    beam_model_live,
+    distribution_live,
     landmark_model_live,
     live_widget,
     odometry_model_live,
-    standard_draws,
     velocity_model_live,
 )
 
@@ -82,7 +84,16 @@ def _config(widget: LiveWidget) -> dict:
     return json.loads(match.group(1))
 
 
-@pytest.mark.parametrize("make", [velocity_model_live, odometry_model_live, landmark_model_live])
+@pytest.mark.parametrize(
+    "make",
+    [
+        velocity_model_live,
+        odometry_model_live,
+        landmark_model_live,
+        distribution_live,
+        beam_model_live,
+    ],
+)
 def test_widget_is_one_small_self_contained_accessible_block(make):
     widget = make()
     config = _config(widget)
@@ -93,7 +104,7 @@ def test_widget_is_one_small_self_contained_accessible_block(make):
     survey.feed(html)
     assert survey.fetching == []  # no src/href: nothing loaded from anywhere
     # a slider and a number box per numeric parameter, a menu per choice
-    assert len(survey.controls) == 2 * len(config["sliders"]) + len(config["choices"]) >= 14
+    assert len(survey.controls) == 2 * len(config["sliders"]) + len(config["choices"]) >= 3
     for control in survey.controls:
         assert control.get("id") in survey.labels or control.get("aria-label"), control
     assert len(survey.canvases) == 1 and survey.canvases[0].get("aria-label")
@@ -175,12 +186,15 @@ def browser():
 
 @pytest.fixture(scope="module")
 def page(browser, tmp_path_factory):
-    """A page with a velocity (index 0), an odometry (1) and a landmark widget (2)."""
+    """A page with a velocity (index 0), an odometry (1), a landmark (2), a Table 5.2 (3) and
+    a beam model (4) widget."""
     cdp, b = browser
     widgets = [
         velocity_model_live(n_particles=N, grid=GRID, rng=SEED),
         odometry_model_live(n_particles=N, grid=GRID, rng=SEED),
         landmark_model_live(n_particles=N, grid=GRID, rng=SEED),
+        distribution_live(n_particles=N, grid=200, rng=SEED),
+        beam_model_live(),
     ]
     path = tmp_path_factory.mktemp("live") / "widgets.html"
     body = "\n".join(w.html for w in widgets)
@@ -203,8 +217,11 @@ def _set(page, index: int, values: dict) -> dict:
     )
     for key in ("xs", "ys", "particles", "density"):
         state[key] = _floats(state[key])
-    state["particles"] = state["particles"].reshape(state["n"], 3)
+    if state["n"]:
+        state["particles"] = state["particles"].reshape(state["n"], -1).squeeze()
     state["density"] = state["density"].reshape(state["ny"], state["nx"])
+    if state["ny"] == 1:  # a curve: one value per xs
+        state["density"] = state["density"][0]
     return state
 
 
@@ -392,10 +409,72 @@ def test_landmark_widget_computes_what_probrob_computes(page, name):
         assert np.nanmax(q) > 0
 
 
-REFERENCES = {0: _velocity_reference, 1: _odometry_reference, 2: _landmark_reference}
+def _distribution_reference(state):
+    p = state["values"]
+    z = standard_draws(N, SEED)[p["distribution"]][0]
+    return np.sqrt(p["b2"]) * z, PROB[p["distribution"]](state["xs"], p["b2"])
 
 
-@pytest.mark.parametrize("index", [0, 1, 2])
+@pytest.mark.parametrize(
+    "values",
+    [
+        dict(b2=1.0),
+        dict(b2=0.5, distribution="triangular"),
+        dict(b2=0.01),
+        dict(b2=4.0, distribution="triangular"),
+    ],
+)
+def test_distribution_widget_computes_what_probrob_computes(page, values):
+    """The curve layer (kind "curve", as a beam model's p(z | z*) would use) against Table 5.2."""
+    state = _set(page, 3, values)
+    samples, density = _distribution_reference(state)
+    b = np.sqrt(values["b2"])
+    np.testing.assert_allclose(state["xs"][[0, -1]], [-4.5 * b, 4.5 * b], rtol=0.02)
+    assert state["density"].shape == state["xs"].shape == (200,)
+    _assert_parity(state["particles"], samples, f"{values}: samples")
+    _assert_parity(state["density"], density, f"{values}: density")
+    # not vacuous: the curve holds the density's mass (midpoint rule over ±4.5 b)
+    assert density.sum() * (state["xs"][1] - state["xs"][0]) == pytest.approx(1, abs=0.01)
+
+
+def _beam_reference(state):
+    p = state["values"]
+    total = p["whit"] + p["wshort"] + p["wmax"] + p["wrand"]  # the widget's order of sums
+    weights = (
+        [p[k] / total for k in ("whit", "wshort", "wmax", "wrand")] if total > 0 else [0, 0, 0, 1]
+    )
+    params = BeamModelParams(*weights, p["sigma"], p["lambda"], 10.0)
+    return np.empty(0), beam_mixture(state["xs"], p["zstar"], params)
+
+
+@pytest.mark.parametrize(
+    "values",
+    [
+        dict(),
+        dict(zstar=0.3, sigma=0.5),  # p_hit's normaliser (the mass below 0 is cut)
+        dict(zstar=9.8, sigma=0.4, wshort=0.6),  # ... and beyond z_max
+        dict(zstar=0.0),  # z* = 0: p_short is a point mass at 0 (no grid point hits it)
+        dict(wshort=0.0, wrand=0.0, whit=0.3, wmax=0.2),  # weights normalised by their sum
+    ],
+)
+def test_beam_widget_computes_what_probrob_computes(page, values):
+    state = _set(page, 4, values)
+    _, density = _beam_reference(state)
+    assert state["density"].shape == (400,) and state["n"] == 0
+    _assert_parity(state["density"], density, f"{values}: p(z | z*)")
+    assert np.isfinite(density).all() and density.max() > 0.1
+
+
+REFERENCES = {
+    0: _velocity_reference,
+    1: _odometry_reference,
+    2: _landmark_reference,
+    3: _distribution_reference,
+    4: _beam_reference,
+}
+
+
+@pytest.mark.parametrize("index", [0, 1, 2, 3, 4])
 def test_widgets_compute_what_probrob_computes_anywhere_on_the_sliders(page, index):
     """12 seeded random settings per widget: every slider uniform on its range (and at an
     end with probability 1/5), every choice uniform."""

@@ -878,3 +878,32 @@ def test_covariance_ellipse_is_the_chi2_contour():
         0.95, 2
     )
     assert abs(inside.mean() - 0.95) < 4 * np.sqrt(0.95 * 0.05 / 2000)
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        (dict(m=np.zeros((0, 3))), "m"),
+        (dict(Sigma=np.diag([1.0, -1.0, 1.0])), "Sigma"),
+        (dict(sigmas=[0.1, 0.0]), "sigmas"),
+        (dict(gate=1.5), "gate"),
+        (dict(z=np.ones((2, 4))), "z"),
+    ],
+)
+def test_ukf_ml_bad_input(kw, match):
+    args = dict(mu=MU, Sigma=SIGMA, u=U, z=GOOD["z"], m=MAP, dt=DT, alpha=ALPHA, sigmas=SIGMAS)
+    args.update(kw)
+    with pytest.raises(ValueError, match=match):
+        ukf_localization_ml(**args)
+
+
+def test_run_filter_rejects_a_gate_for_known_correspondences():
+    with pytest.raises(ValueError, match="gate"):
+        run_filter([], MU, SIGMA, MAP, ALPHA, SIGMAS, method="ekf", gate=0.99)
+
+
+def test_covariance_ellipse_bad_input():
+    with pytest.raises(ValueError, match="Sigma"):
+        covariance_ellipse(MU, np.diag([1.0, -1.0, 1.0]))
+    with pytest.raises(ValueError, match="Sigma"):
+        covariance_ellipse(MU, np.eye(4))

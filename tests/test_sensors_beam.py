@@ -116,6 +116,10 @@ def test_sampler_is_reproducible_and_shapes():
     assert a.shape == (5, 2)
     with pytest.raises(ValueError, match="size"):
         sample_beam_mixture([1.0, 2.0], P, size=3)
+    with pytest.raises(ValueError, match="rng"):
+        sample_beam_mixture([1.0, 2.0], P, rng=-1)
+    with pytest.raises(TypeError, match="z_star"):
+        sample_beam_mixture([1.0 + 1j], P)
 
 
 # ------------------------------------------------------------------ Table 6.1 on a map

@@ -147,3 +147,19 @@ def test_bad_input(grid):
         )
     with pytest.raises(ValueError, match="non-negative"):
         likelihood_field_range_finder_model([-1, 1], [0, 1, 0], grid, angles, P)
+
+
+def test_deck_prob_of_sigma_is_a_variance_slot(grid):
+    """Errata B6: prob(dist, σ_hit) with Table 5.2's prob(a, b²) reads σ_hit as a variance."""
+    from probrob.distributions import prob_normal_distribution
+
+    d = 0.1
+    book = P.z_hit * prob_normal_distribution(d, P.sigma_hit**2) + P.z_rand / P.max_range
+    deck = P.z_hit * prob_normal_distribution(d, P.sigma_hit) + P.z_rand / P.max_range
+    # The library's table at a cell whose distance is d equals the book's value ...
+    table = likelihood_field_table(grid, P)[1:-1, 1:-1]
+    dist = grid.distance_field
+    i, j = np.argwhere(np.isclose(dist, d))[0]
+    assert np.exp(table[i, j]) == pytest.approx(book, rel=1e-12)
+    # ... and the deck's reading is a normal of std sqrt(0.1) = 0.32 m, not 0.1 m.
+    assert deck / book < 0.6

@@ -8,7 +8,7 @@ embeds a seeded set of *standardized draws* :math:`z` made by :mod:`probrob.dist
 * the sample cloud: the model's sampler with every noise term :math:`\varepsilon = b\,z`,
   :math:`b = \sqrt{b^2}`, the same arithmetic for the normal (sum of twelve uniforms) and
   the triangular sampler, so that a cloud for any :math:`\alpha` is the same draws rescaled;
-* the density on a grid (default 100 × 100) over the plot box;
+* the density on a grid (default 100 × 100) over the plot box (or a curve);
 
 and draws both on a ``<canvas>`` with markers (the start pose, the noise-free end pose, a
 landmark), axes and a colour bar. The JavaScript is a second implementation of the book's
@@ -24,9 +24,11 @@ and ``densityLabel`` (their contract is at the top of ``live.js``; ``landmark.js
 shortest example). The Python function calls :func:`live_widget` with the kernel's name, its
 :class:`Slider` and :class:`Choice` list, any fixed ``constants`` and the embedded ``draws``
 (e.g. :func:`landmark_model_live`); a test then compares the kernel with the library. The
-files are package data, read when a widget is made and inlined into its HTML. (A sensor model
-whose natural picture is a curve, such as the beam model's :math:`p(z \mid z^*)`, would also
-need a curve layer in ``live.js``; the planar models need none.)
+files are package data, read when a widget is made and inlined into its HTML. A model whose
+picture is a curve of one variable, such as the beam model's :math:`p(z \mid z^*)` with its
+six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histogram of its
+samples): :func:`beam_model_live` (``beam.js``) and :func:`distribution_live` (Table 5.2,
+``distribution.js``).
 
 Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
@@ -37,7 +39,8 @@ itself in ``window.probrobLive.widgets`` (page order) as a handle with
   redraw synchronously (``refit``: fit the view to the new cloud), and return ``state()``;
 * ``state()`` — ``{values, n, nx, ny, markers, theta, view, xs, ys, particles, density,
   timings}``: the arrays as base64 of little-endian float64 (``particles`` is ``(n, 3)``,
-  ``density`` is ``(ny, nx)`` with ``density[i, j]`` at ``(xs[j], ys[i])``, ``theta`` the
+  or ``(n,)`` for a curve; ``density`` is ``(ny, nx)`` with ``density[i, j]`` at
+  ``(xs[j], ys[i])``, ``ny = 1`` for a curve; ``theta`` the
   hypothesis heading of densities taken at one heading) and the milliseconds of the last
   update (``compute``: particles and grid; ``draw``; ``total``);
 * ``draws(name)`` — one embedded array of draws, base64 float64 ``(k, n)``;
@@ -64,6 +67,8 @@ __all__ = [
     "Choice",
     "LiveWidget",
     "Slider",
+    "beam_model_live",
+    "distribution_live",
     "landmark_draws",
     "landmark_model_live",
     "live_widget",
@@ -198,7 +203,7 @@ def _fmt(x: float) -> str:
 
 def _controls_html(wid: str, sliders, choices) -> str:
     e = html.escape
-    rows = []
+    rows = ['<div class="pl-sliders">']
     for s in sliders:
         rid = f"{wid}-{s.name}"
         attrs = (
@@ -210,6 +215,7 @@ def _controls_html(wid: str, sliders, choices) -> str:
             f'<input type="number" id="{rid}-n" data-param="{e(s.name)}" {attrs} '
             f'aria-label="{e(s.label)}, value"></div>'
         )
+    rows.append("</div>")
     for c in choices:
         cid = f"{wid}-{c.name}"
         options = "".join(
@@ -259,7 +265,8 @@ def live_widget(
     draws : dict of ndarray (k, n), optional
         Draws by name (``n = n_particles``): the kernel's ``sample`` gets the one named by the
         ``distribution`` choice and all of them; default :func:`standard_draws`
-        ``(n_particles, rng)``.
+        ``(n_particles, rng)``. A kernel that draws no samples takes ``{}`` and
+        ``n_particles=0``.
     constants : dict of float, optional
         Fixed parameters the kernel reads like slider values (e.g. a landmark's position).
     n_particles, grid, headings : int
@@ -277,13 +284,12 @@ def live_widget(
         kernel_js = _asset(f"{kernel}.js")
     except (FileNotFoundError, OSError) as exc:
         raise ValueError(f"kernel must name a file {_ASSETS}/<kernel>.js, got {kernel!r}") from exc
-    for name, value, lo in (
-        ("n_particles", n_particles, 1),
-        ("grid", grid, 2),
-        ("headings", headings, 0),
-    ):
-        check.count(value, name, lo)
+    n_particles = check.count(n_particles, "n_particles", 0)
+    grid = check.count(grid, "grid", 2)
+    headings = check.count(headings, "headings", 0)
     if draws is None:
+        if n_particles < 1:
+            raise ValueError(f"n_particles must be >= 1 with the default draws, got {n_particles}")
         draws = standard_draws(n_particles, rng)
     draws = {k: check.finite(v, f"draws[{k!r}]") for k, v in draws.items()}
     for k, v in draws.items():
@@ -304,7 +310,7 @@ def live_widget(
                 f"{c.name} must be one of {[v for v, _ in c.options]}, got {c.value!r}"
             )
     families = [v for c in choices if c.name == "distribution" for v, _ in c.options]
-    if not set(families or ["normal"]) <= set(draws):
+    if draws and not set(families or ["normal"]) <= set(draws):
         raise ValueError(f"every distribution needs its draws, have {sorted(draws)}")
 
     wid = f"probrob-live-{kernel}-{next(_COUNTER)}"
@@ -357,6 +363,8 @@ mountLiveWidget(root, config, kernels[config.kernel]);
 
 def _alpha_sliders(alpha, count):
     alpha = check.alphas(alpha, "alpha", count)
+    if np.any(alpha > 0.5):
+        raise ValueError(f"alpha must lie in [0, 0.5] (the sliders' range), got {alpha.tolist()}")
     return [
         Slider(f"a{k + 1}", f"α{k + 1}", float(alpha[k]), 0.0, 0.5, 0.001) for k in range(count)
     ]
@@ -379,10 +387,7 @@ def _common_choices(distribution, noise, density):
 
 
 def _in_range(value, name, lo, hi):
-    value = check.finite(value, name)
-    if value.ndim != 0 or not lo <= value <= hi:
-        raise ValueError(f"{name} must be a number in [{lo}, {hi}], got {value!r}")
-    return float(value)
+    return check.in_range(value, name, lo, hi)
 
 
 def velocity_model_live(
@@ -563,7 +568,10 @@ def landmark_model_live(
     sigmas = check.finite(sigmas, "sigmas")
     if sigmas.shape != (3,):
         raise ValueError(f"sigmas must hold (σ_r, σ_φ, σ_s), got shape {sigmas.shape}")
-    mx, my, ms = check.vectors(landmark, "landmark", 3, "x, y, s")
+    landmark = check.vectors(landmark, "landmark", 3, "x, y, s")
+    if landmark.shape != (3,):
+        raise ValueError(f"landmark must be one row (x, y, s), got shape {landmark.shape}")
+    mx, my, ms = landmark
     sliders = [
         Slider("r", "r [m]", _in_range(r, "r", 0, 5), 0.0, 5.0, 0.01),
         Slider("phi", "φ [rad]", _in_range(phi, "phi", -3.14, 3.14), -3.14, 3.14, 0.01),
@@ -595,4 +603,125 @@ def landmark_model_live(
         n_particles=n_particles,
         grid=grid,
         rng=rng,
+    )
+
+
+def distribution_live(*, b2=1.0, distribution="normal", n_particles=2000, grid=200, rng=0):
+    r"""Return a live widget of the zero-mean densities of Table 5.2 and their samplers.
+
+    A slider for the variance :math:`b^2` and a choice of distribution; the curve is
+    :func:`~probrob.distributions.prob_normal_distribution` or
+    :func:`~probrob.distributions.prob_triangular_distribution` over :math:`\pm 4.5\,b`, the
+    histogram is the embedded standardized draws of :func:`standard_draws` times :math:`b`
+    (Table 5.4's samplers). The smallest widget of ``kind: "curve"``.
+
+    Parameters
+    ----------
+    b2 : float
+        Initial variance, in [0.01, 4].
+    distribution : {"normal", "triangular"}
+    n_particles, grid, rng
+        Samples, curve points, seed of the draws.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
+    return live_widget(
+        "distribution",
+        [Slider("b2", "b² (variance)", _in_range(b2, "b2", 0.01, 4), 0.01, 4.0, 0.01)],
+        [
+            Choice(
+                "distribution",
+                "distribution",
+                tuple((k, label) for k, (label, _) in DISTRIBUTIONS.items()),
+                distribution,
+            )
+        ],
+        title="Noise distributions (Tables 5.2 and 5.4)",
+        caption=(
+            f"Blue: the density of Table 5.2 with variance b²; red: a histogram of {n_particles} "
+            "samples of Table 5.4, the same standardized draws times b."
+        ),
+        aria_label=(
+            "Plot of a zero-mean noise density against a, over a histogram of its samples."
+        ),
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+    )
+
+
+def beam_model_live(
+    *,
+    z_star=5.0,
+    weights=(0.7, 0.15, 0.05, 0.1),
+    sigma_hit=0.2,
+    lambda_short=0.6,
+    max_range=10.0,
+    grid=400,
+) -> LiveWidget:
+    r"""Return a live widget of the beam model's :math:`p(z \mid z^*)` (Table 6.1, lines 5-6).
+
+    Sliders for the expected range :math:`z^*`, the four mixing weights
+    :math:`(z_{hit}, z_{short}, z_{max}, z_{rand})` (the widget divides them by their sum, as
+    the title shows), :math:`\sigma_{hit}` and :math:`\lambda_{short}`; the curve is
+    :func:`~probrob.sensors.beam_mixture` over :math:`[0, z_{max})` (the point mass at
+    :math:`z_{max}` has the weight :math:`z_{max}`). No samples: the library's sampler inverts
+    the normal CDF, which the page does not carry.
+
+    Parameters
+    ----------
+    z_star : float
+        Expected range, in [0, max_range].
+    weights : array_like, shape (4,)
+        Initial mixing weights, each in [0, 1] (normalised by their sum).
+    sigma_hit, lambda_short : float
+        In [0.01, 1] m and [0.05, 5] 1/m.
+    max_range : float
+        The sensor's maximum range, m (fixed).
+    grid : int
+        Points of the curve.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    zmax = check.positive_scalar(max_range, "max_range")
+    weights = check.finite(weights, "weights")
+    if weights.shape != (4,):
+        raise ValueError(f"weights must hold (z_hit, z_short, z_max, z_rand), got {weights.shape}")
+    names = ("whit", "wshort", "wmax", "wrand")
+    labels = ("z_hit", "z_short", "z_max", "z_rand")
+    sliders = [
+        Slider("zstar", "z* [m]", _in_range(z_star, "z_star", 0, zmax), 0.0, zmax, 0.01),
+        *(
+            Slider(n, lab, _in_range(w, f"weights[{k}]", 0, 1), 0.0, 1.0, 0.01)
+            for k, (n, lab, w) in enumerate(zip(names, labels, weights, strict=True))
+        ),
+        Slider("sigma", "σ_hit [m]", _in_range(sigma_hit, "sigma_hit", 0.01, 1), 0.01, 1.0, 0.01),
+        Slider(
+            "lambda",
+            "λ_short [1/m]",
+            _in_range(lambda_short, "lambda_short", 0.05, 5),
+            0.05,
+            5.0,
+            0.01,
+        ),
+    ]
+    return live_widget(
+        "beam",
+        sliders,
+        title="Beam model p(z | z*) (Table 6.1)",
+        caption=(
+            "Blue: the mixture z_hit p_hit + z_short p_short + z_rand p_rand of Table 6.1 over "
+            "[0, z_max), in 1/m; the weights are the sliders divided by their sum. The point "
+            "mass z_max at z = z_max is not drawn."
+        ),
+        aria_label="Plot of the beam model's density of a measured range z given the expected range.",
+        draws={},
+        constants={"zmax": zmax},
+        n_particles=0,
+        grid=grid,
     )

@@ -5,13 +5,19 @@ The book's exercise pattern (every chapter copies it):
 1. the task, in prose (a markdown cell);
 2. an **answer cell** that runs as shipped, with a starting line that fails the check,
    e.g. ``alpha_95 = None  # your answer``;
-3. a **check cell**, ``check("Exercise 3", alpha_95, test=...)``: it prints
-   ``Exercise 3: correct`` or what is wrong, and never raises, so that nbval and the book
-   build stay green while the exercise is unsolved;
-4. the **solution**: a code cell tagged ``hide-input`` and ``exercise-solution`` (collapsed
-   in the book) that computes the answer and calls the same check, which prints
-   ``correct``. nbval re-runs it, so the tests prove that every exercise is solvable
-   (``tests/test_exercises.py`` also checks that every solution prints "correct").
+3. a **check cell** (tag ``exercise-check``), ``check("Exercise 3", alpha_95, test=...)``:
+   it prints ``Exercise 3: correct`` or what is wrong, and never raises, so that nbval and
+   the book build stay green while the exercise is unsolved (as shipped it prints
+   ``Exercise 3: not yet — ...``);
+4. the **solution**: a code cell tagged ``exercise-solution`` and ``hide-cell`` (code and
+   output collapsed in the book, so the printed answer is hidden too; ``hide-input``
+   collapses only the code) that computes the answer and calls the same check, which
+   prints ``correct``. nbval re-runs it, so the tests prove that every exercise is solvable
+   (``tests/test_exercises.py`` also checks that every solution prints "correct", is
+   collapsed, and follows a check that prints "not yet" for the same exercise).
+
+``check`` returns nothing (a trailing ``;`` does not silence a value under nbval);
+:func:`verdict` returns the printed line.
 
 Prefer a ``test`` that checks a property of the answer (by calling the library) to an
 ``expected`` value written into the check cell, which would give the answer away.
@@ -23,7 +29,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-__all__ = ["check"]
+__all__ = ["check", "verdict"]
 
 
 def _compare(answer, expected, rtol, atol):
@@ -53,8 +59,8 @@ def check(
     rtol: float = 1e-6,
     atol: float = 0.0,
     hint: str | None = None,
-) -> bool:
-    """Print ``"<name>: correct"`` or ``"<name>: not yet — <what is wrong>"``; return the verdict.
+) -> None:
+    """Print ``"<name>: correct"`` or ``"<name>: not yet — <what is wrong>"``.
 
     Never raises: an answer that is missing (``None`` or ``...``), of the wrong type or
     shape, or that makes ``test`` fail or raise, is reported in the printed line.
@@ -78,8 +84,25 @@ def check(
 
     Returns
     -------
-    correct : bool
+    None
+        Nothing, so that a check as the last line of a cell shows only its message (a
+        trailing ``;`` does not silence a value under nbval). Use :func:`verdict` for
+        the message as a value.
     """
+    print(verdict(name, answer, expected, test=test, rtol=rtol, atol=atol, hint=hint))
+
+
+def verdict(
+    name: str,
+    answer,
+    expected=None,
+    *,
+    test: Callable | None = None,
+    rtol: float = 1e-6,
+    atol: float = 0.0,
+    hint: str | None = None,
+) -> str:
+    """Return the line that :func:`check` prints (same arguments); never raise."""
     if answer is None or answer is Ellipsis:
         problem = "no answer yet: replace the starting line with your answer"
     else:
@@ -96,7 +119,5 @@ def check(
         except Exception as exc:
             problem = f"checking the answer raised {type(exc).__name__}: {exc}"
     if problem is None:
-        print(f"{name}: correct")
-        return True
-    print(f"{name}: not yet — {problem}" + (f" (hint: {hint})" if hint else ""))
-    return False
+        return f"{name}: correct"
+    return f"{name}: not yet — {problem}" + (f" (hint: {hint})" if hint else "")

@@ -44,6 +44,8 @@ Straight lines are limits, not special cases: every update is evaluated in chord
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from . import _validation as check
@@ -66,6 +68,18 @@ _METHODS = ("arc", "euler", "midpoint")
 _FLIP = np.array([1.0, 1.0, -1.0])
 
 
+def _quiet(function):
+    """Compute without numpy's floating-point warnings; overflow is reported by
+    :func:`probrob._validation.no_overflow` as a ``ValueError`` naming the arguments."""
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        with np.errstate(over="ignore", invalid="ignore"):
+            return function(*args, **kwargs)
+
+    return wrapper
+
+
 def _positive(value, name: str) -> np.ndarray:
     """A finite array of strictly positive values (a length such as the wheel base)."""
     arr = check.finite(value, name)
@@ -75,12 +89,9 @@ def _positive(value, name: str) -> np.ndarray:
 
 
 def _broadcast(name_values: dict) -> list[np.ndarray]:
-    """Broadcast named arrays, or raise ``ValueError`` naming them."""
-    try:
-        return list(np.broadcast_arrays(*name_values.values()))
-    except ValueError as exc:
-        shapes = ", ".join(f"{k} {np.shape(v)}" for k, v in name_values.items())
-        raise ValueError(f"shapes do not broadcast: {shapes}") from exc
+    """Broadcast named arrays, or raise ``ValueError`` naming each of them and its shape."""
+    check.batch_shape(**{k: np.shape(v) for k, v in name_values.items()})
+    return list(np.broadcast_arrays(*name_values.values()))
 
 
 def _signed_infinity(sign_of):
@@ -91,6 +102,7 @@ def _signed_infinity(sign_of):
 # --------------------------------------------------------------------------- deck 002
 
 
+@_quiet
 def diff_drive_odometry(ds_left, ds_right, wheelbase):
     r"""Return the body's travel, turn and turning radius from the two wheels' arc lengths.
 
@@ -132,13 +144,16 @@ def diff_drive_odometry(ds_left, ds_right, wheelbase):
     left, right, d = _broadcast({"ds_left": left, "ds_right": right, "wheelbase": d})
     ds = 0.5 * (left + right)
     dtheta = (right - left) / d
+    check.no_overflow(
+        ds + dtheta, "diff_drive_odometry", ds_left=left, ds_right=right, wheelbase=d
+    )
     turning = dtheta != 0
-    # A tiny but nonzero turn may overflow to the correct infinite radius.
-    with np.errstate(over="ignore"):
-        radius = np.divide(ds, dtheta, out=_signed_infinity(ds), where=turning)
+    # a tiny but nonzero turn may overflow to the infinite radius (warnings are off)
+    radius = np.divide(ds, dtheta, out=_signed_infinity(ds), where=turning)
     return tuple(check.scalar_or_array(a) for a in (ds, dtheta, radius))
 
 
+@_quiet
 def tricycle_odometry(d_front, steering_angle, wheelbase):
     r"""Return the body's travel and turn from the steered front wheel's travel and angle.
 
@@ -175,12 +190,12 @@ def tricycle_odometry(d_front, steering_angle, wheelbase):
     steer = check.finite(steering_angle, "steering_angle")
     d = _positive(wheelbase, "wheelbase")
     front, steer, d = _broadcast({"d_front": front, "steering_angle": steer, "wheelbase": d})
-    return (
-        check.scalar_or_array(front * np.cos(steer)),
-        check.scalar_or_array(front * np.sin(steer) / d),
-    )
+    ds, dtheta = front * np.cos(steer), front * np.sin(steer) / d
+    check.no_overflow(dtheta, "tricycle_odometry", d_front=front, wheelbase=d)
+    return check.scalar_or_array(ds), check.scalar_or_array(dtheta)
 
 
+@_quiet
 def arc_update(x_prev, ds, dtheta):
     r"""Return the pose after travelling ``ds`` along a circular arc that turns ``dtheta``.
 
@@ -227,10 +242,14 @@ def arc_update(x_prev, ds, dtheta):
     ds = check.finite(ds, "ds")
     dtheta = check.finite(dtheta, "dtheta")
     x, y, th = np.moveaxis(x_prev, -1, 0)
-    x, y, th, ds, dtheta = _broadcast({"x_prev": x, "y": y, "th": th, "ds": ds, "dtheta": dtheta})
-    return np.stack(_arc(x, y, th, ds, dtheta, 1.0), axis=-1)
+    check.batch_shape(x_prev=x_prev.shape[:-1], ds=ds.shape, dtheta=dtheta.shape)
+    x, y, th, ds, dtheta = np.broadcast_arrays(x, y, th, ds, dtheta)
+    out = np.stack(_arc(x, y, th, ds, dtheta, 1.0), axis=-1)
+    check.no_overflow(out, "arc_update", x_prev=x_prev, ds=ds, dtheta=dtheta)
+    return out
 
 
+@_quiet
 def dead_reckon(x0, ds, dtheta, *, method="arc"):
     r"""Return the trajectory obtained by chaining odometry steps from ``x0``.
 
@@ -269,13 +288,12 @@ def dead_reckon(x0, ds, dtheta, *, method="arc"):
     method = check.choice(method, "method", _METHODS)
     if ds.ndim == 0 or dtheta.ndim == 0:
         raise ValueError("ds and dtheta must have a last axis of steps, shape (..., K)")
-    ds, dtheta = _broadcast({"ds": ds, "dtheta": dtheta})
-    try:
-        batch = np.broadcast_shapes(x0.shape[:-1], ds.shape[:-1])
-    except ValueError as exc:
+    if ds.shape[-1] != dtheta.shape[-1]:
         raise ValueError(
-            f"x0 of shape {x0.shape} does not broadcast with ds, dtheta of shape {ds.shape}"
-        ) from exc
+            f"ds and dtheta must have the same number of steps K (last axis), got shapes "
+            f"{ds.shape} and {dtheta.shape}"
+        )
+    batch = check.batch_shape(x0=x0.shape[:-1], ds=ds.shape[:-1], dtheta=dtheta.shape[:-1])
     steps = ds.shape[-1]
     x0 = np.broadcast_to(x0, (*batch, 3))
     ds = np.broadcast_to(ds, (*batch, steps))
@@ -292,6 +310,7 @@ def dead_reckon(x0, ds, dtheta, *, method="arc"):
     out[..., 1:, 0] = x0[..., 0:1] + np.cumsum(chord * np.cos(direction), axis=-1)
     out[..., 1:, 1] = x0[..., 1:2] + np.cumsum(chord * np.sin(direction), axis=-1)
     out[..., 1:, 2] = heading
+    check.no_overflow(out, "dead_reckon's trajectory", x0=x0, ds=ds, dtheta=dtheta)
     return out
 
 
@@ -301,8 +320,9 @@ def dead_reckon(x0, ds, dtheta, *, method="arc"):
 def _wheels(u, wheelbase):
     u = check.vectors(u, "u", 2, "s_sx, s_dx: left and right wheel arc lengths")
     ell = _positive(wheelbase, "wheelbase")
+    check.batch_shape(u=u.shape[:-1], wheelbase=ell.shape)
     s_sx, s_dx = np.moveaxis(u, -1, 0)
-    return _broadcast({"u[..., 0]": s_sx, "u[..., 1]": s_dx, "wheelbase": ell})
+    return np.broadcast_arrays(s_sx, s_dx, ell)
 
 
 def _translation(tx, ty):
@@ -324,6 +344,7 @@ def _deck_rotation(angle):
     return t
 
 
+@_quiet
 def cir_pose_matrix(x):
     r"""Return the report's homogeneous matrix :math:`T^w_{R}` of poses ``x``.
 
@@ -356,6 +377,7 @@ def cir_pose_matrix(x):
     return t
 
 
+@_quiet
 def cir_radius_angle(u, wheelbase):
     r"""Return the report's radius :math:`r` and turn :math:`\alpha` of one step.
 
@@ -384,11 +406,14 @@ def cir_radius_angle(u, wheelbase):
     """
     s_sx, s_dx, ell = _wheels(u, wheelbase)
     diff = s_sx - s_dx
-    with np.errstate(over="ignore"):
-        r = np.divide(ell * s_dx, diff, out=_signed_infinity(s_dx), where=diff != 0)
-    return check.scalar_or_array(r), check.scalar_or_array(diff / ell)
+    # a tiny but nonzero difference may overflow to the infinite radius (warnings are off)
+    r = np.divide(ell * s_dx, diff, out=_signed_infinity(s_dx), where=diff != 0)
+    alpha = diff / ell
+    check.no_overflow(alpha, "the turn alpha", u=np.stack([s_sx, s_dx], -1), wheelbase=ell)
+    return check.scalar_or_array(r), check.scalar_or_array(alpha)
 
 
+@_quiet
 def cir_step_transform(u, wheelbase):
     r"""Return the roto-translation :math:`T^{R_{t-1}}_{R_t}` of one step, as the report builds it.
 
@@ -426,6 +451,7 @@ def cir_step_transform(u, wheelbase):
     return np.where(straight[..., None, None], _translation(s_sx, zero), turning)
 
 
+@_quiet
 def cir_state_function(x_prev, u, wheelbase):
     r"""Return the report's state function :math:`f(x_{t-1}, u)`: the pose after one step.
 
@@ -463,14 +489,18 @@ def cir_state_function(x_prev, u, wheelbase):
     """
     x_prev = check.poses(x_prev, "x_prev")
     s_sx, s_dx, ell = _wheels(u, wheelbase)
+    check.batch_shape(x_prev=x_prev.shape[:-1], u=s_sx.shape)
     u = np.stack([s_sx, s_dx], axis=-1)
     world = cir_pose_matrix(x_prev) @ cir_step_transform(u, ell)
     alpha = (s_sx - s_dx) / ell
-    return np.stack(
+    out = np.stack(
         np.broadcast_arrays(world[..., 0, 2], world[..., 1, 2], x_prev[..., 2] + alpha), axis=-1
     )
+    check.no_overflow(out, "cir_state_function", x_prev=x_prev, u=u, wheelbase=ell)
+    return out
 
 
+@_quiet
 def cir_state_jacobians(x_prev, u, wheelbase):
     r"""Return the Jacobians :math:`F = \partial f / \partial x_{t-1}` and :math:`W = \partial f / \partial u`.
 
@@ -509,6 +539,7 @@ def cir_state_jacobians(x_prev, u, wheelbase):
     """
     x_prev = check.poses(x_prev, "x_prev")
     s_sx, s_dx, ell = _wheels(u, wheelbase)
+    check.batch_shape(x_prev=x_prev.shape[:-1], u=s_sx.shape)
     controls = np.stack([0.5 * (s_sx + s_dx), (s_dx - s_sx) / ell], axis=-1)
     G, V = velocity_motion_jacobians(x_prev * _FLIP, controls, 1.0)
     J = np.zeros((*ell.shape, 2, 2))
@@ -517,4 +548,5 @@ def cir_state_jacobians(x_prev, u, wheelbase):
     J[..., 1, 1] = 1.0 / ell
     F = _FLIP[:, None] * G * _FLIP
     W = _FLIP[:, None] * (V @ J)
+    check.no_overflow(W, "cir_state_jacobians", x_prev=x_prev, u=u, wheelbase=ell)
     return F, W

@@ -325,17 +325,20 @@ def _gaussian_terms(nu: np.ndarray, S: np.ndarray, name: str = "S"):
 def _correct(mu_bar, Sigma_bar, nu, H, S):
     r"""One EKF correction (Table 7.2, lines 15–17) and the feature's log-likelihood.
 
-    Returns the new μ̄, Σ̄ and :math:`\log N(\nu; 0, S)` (line 21's factor). The
-    factorisation of ``S`` checks that it is positive definite.
+    Returns the new μ̄, Σ̄ and :math:`\log N(\nu; 0, S)` (line 21's factor). ``S`` is
+    positive definite by construction (:math:`Q_t` is); its determinant and diagonal are
+    checked anyway, against rounding with badly scaled inputs.
     """
-    L = _cholesky(S, "S")
+    sign, logdet = np.linalg.slogdet(S)
+    if not sign > 0 or not S[0, 0] > 0 or not S[1, 1] > 0:
+        raise ValueError("S is not positive definite; check the scales of Sigma and sigmas")
     S_inv = np.linalg.inv(S)
-    K = Sigma_bar @ H.T @ S_inv
+    PHt = Sigma_bar @ H.T
+    K = PHt @ S_inv
     mu_bar = mu_bar + K @ nu
-    Sigma_bar = Sigma_bar - K @ (H @ Sigma_bar)
+    Sigma_bar = Sigma_bar - K @ PHt.T
     d2 = float(nu @ S_inv @ nu)
-    logdet = 2.0 * float(np.sum(np.log(np.diagonal(L))))
-    logp = -0.5 * (d2 + logdet + nu.shape[0] * _LOG_2PI)
+    logp = -0.5 * (d2 + float(logdet) + nu.shape[0] * _LOG_2PI)
     return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T), logp
 
 
@@ -1213,17 +1216,22 @@ def run_filter(
     dts = np.empty(T)
     us = np.empty((T, 2))
     zs, cs_true = [], []
+    known = method in ("ekf", "ukf")
+    no_z = np.zeros((0, 3 if signatures else 2))
+    no_c = np.zeros(0, dtype=int)
     for i, step in enumerate(steps):
         t[i] = step.t
         dts[i] = step.dt
         us[i] = step.u
+        if len(step.z) == 0:  # most steps of a real run: nothing to check
+            zs.append(no_z)
+            cs_true.append(no_c)
+            continue
         z = _features(step.z)
-        if not signatures and z.size:
+        if not signatures:
             z = z[:, :2]
         zs.append(z)
-        cs_true.append(
-            _correspondences(step.c, z.shape[0], m.shape[0]) if method != "ekf_ml" else None
-        )
+        cs_true.append(_correspondences(step.c, z.shape[0], m.shape[0]) if known else None)
     if not np.all(np.isfinite(us)):
         raise ValueError("steps: every u must be finite")
     if not np.all(dts > 0):

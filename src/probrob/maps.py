@@ -17,11 +17,15 @@ Ray casting has three methods, all exact up to floating-point rounding except th
 last:
 
 ``"hybrid"`` (default)
-    Amanatides–Woo grid traversal that skips free space by sphere tracing: at each
+    Sphere tracing across open space (jumps by the free radius while it exceeds a
+    cell), then Amanatides–Woo grid traversal that keeps skipping free space: at each
     step the ray advances to the larger of the next cell boundary and the distance
-    that the distance field proves free. It visits the same cells' boundaries as the
-    traversal near obstacles, so it returns the same range (measured: identical to
-    ``"dda"`` to :math:`10^{-9}` cells on every beam of the benchmark).
+    that the distance field proves free (the distance from the cell's centre to the
+    nearest occupied centre, minus twice the half diagonal of a cell). A jump never
+    enters an occupied cell, so the first occupied cell is entered where the plain
+    traversal enters it: the ranges equal ``"dda"``'s up to rounding (the tests hold
+    both to :math:`10^{-9}` m of an independent scalar traversal; the benchmark finds
+    the two methods within :math:`10^{-12}` m on all of its 180,000 beams).
 ``"dda"``
     The plain vectorised Amanatides–Woo traversal (one cell per step), the reference.
 ``"march"``
@@ -159,6 +163,18 @@ class OccupancyGrid:
             d = distance_transform_edt(~self.occupied) * self.resolution
         d.flags.writeable = False
         return d
+
+    @cached_property
+    def _traversal_tables(self):
+        """Padded by one ring of cells: codes (0 free, 1 occupied, 2 outside) and, per
+        cell, a lower bound (in cells) of the distance from any point of the cell to any
+        occupied cell: the centre distance minus twice the half diagonal."""
+        h, w = self.shape
+        code = np.full((h + 2, w + 2), 2, dtype=np.uint8)
+        code[1:-1, 1:-1] = self.occupied
+        free = np.zeros((h + 2, w + 2))
+        free[1:-1, 1:-1] = self.distance_field / self.resolution - 2.0 * _HALF_DIAGONAL
+        return code.ravel(), free.ravel()
 
     # ------------------------------------------------------------------ building
     @classmethod
@@ -342,24 +358,22 @@ def ray_cast(grid, poses, beam_angles, max_range, *, method="hybrid"):
     dy = (st * ca + ct * sa).ravel()
     if method == "march":
         t = _march(grid, gx, gy, dx, dy, max_range / res)
+    elif method == "hybrid":
+        t = _traverse_hybrid(grid, gx, gy, dx, dy, max_range / res)
     else:
-        t = _traverse(grid, gx, gy, dx, dy, max_range / res, skip=method == "hybrid")
+        t = _traverse(grid, gx, gy, dx, dy, max_range / res)
     return np.minimum(t * res, max_range).reshape(*batch, angles.size)
 
 
-def _traverse(grid, gx, gy, dx, dy, t_max, *, skip):
-    """Amanatides–Woo traversal in cell units; ``skip`` adds sphere-tracing jumps.
+def _traverse(grid, gx, gy, dx, dy, t_max):
+    """Plain Amanatides–Woo traversal in cell units, one cell per step (the reference).
 
     State per active ray: its cell (i, j) and the distance t at which it entered it.
     The next boundary crossings are computed from the ray origin each step (no
-    accumulated rounding). A sphere step moves t to ``t + safe`` where ``safe`` is a
-    lower bound of the distance from the current point to any occupied cell, and
-    re-locates the cell by flooring.
+    accumulated rounding).
     """
     h, w = grid.shape
     occ = grid.occupied.ravel()
-    if skip:
-        free_radius = grid.distance_field.ravel() / grid.resolution - _HALF_DIAGONAL
     n = gx.size
     out = np.full(n, t_max)
     idx = np.arange(n)
@@ -372,40 +386,20 @@ def _traverse(grid, gx, gy, dx, dy, t_max, *, skip):
     t = np.zeros(n)
     x0, y0 = gx, gy
     while idx.size:
-        cell = i * w + j
-        hit = occ[cell]
+        hit = occ[i * w + j]
         if hit.any():
             out[idx[hit]] = t[hit]
             keep = ~hit
-            idx, i, j, t, cell = idx[keep], i[keep], j[keep], t[keep], cell[keep]
+            idx, i, j, t = idx[keep], i[keep], j[keep], t[keep]
             x0, y0, dx, dy = x0[keep], y0[keep], dx[keep], dy[keep]
             sx, sy, inv_dx, inv_dy = sx[keep], sy[keep], inv_dx[keep], inv_dy[keep]
         # Next cell boundary along x and along y (distance from the origin).
-        tx = (j + (sx > 0) - x0) * inv_dx
-        ty = (i + (sy > 0) - y0) * inv_dy
-        tx = np.where(dx == 0, np.inf, tx)
-        ty = np.where(dy == 0, np.inf, ty)
+        tx = np.where(dx == 0, np.inf, (j + (sx > 0) - x0) * inv_dx)
+        ty = np.where(dy == 0, np.inf, (i + (sy > 0) - y0) * inv_dy)
         step_x = tx <= ty
-        t_dda = np.where(step_x, tx, ty)
+        t = np.where(step_x, tx, ty)
         j = j + np.where(step_x, sx, 0)
         i = i + np.where(step_x, 0, sy)
-        if skip:
-            px = x0 + t * dx
-            py = y0 + t * dy
-            safe = free_radius[cell] - np.hypot(px - (cell % w + 0.5), py - (cell // w + 0.5))
-            t_safe = np.minimum(t + safe, t_max)
-            jump = t_safe > t_dda
-            if jump.any():
-                t_new = np.where(jump, t_safe, t_dda)
-                jj = np.floor(x0 + t_new * dx).astype(np.int64)
-                ii = np.floor(y0 + t_new * dy).astype(np.int64)
-                j = np.where(jump, jj, j)
-                i = np.where(jump, ii, i)
-                t = t_new
-            else:
-                t = t_dda
-        else:
-            t = t_dda
         done = (t >= t_max) | (i < 0) | (i >= h) | (j < 0) | (j >= w)
         if done.any():
             keep = ~done
@@ -413,6 +407,87 @@ def _traverse(grid, gx, gy, dx, dy, t_max, *, skip):
             x0, y0, dx, dy = x0[keep], y0[keep], dx[keep], dy[keep]
             sx, sy, inv_dx, inv_dy = sx[keep], sy[keep], inv_dx[keep], inv_dy[keep]
     return out
+
+
+def _traverse_hybrid(grid, gx, gy, dx, dy, t_max):
+    """Amanatides–Woo traversal with sphere-tracing jumps, in cell units.
+
+    State per ray in flight: its cell (i, j) in a grid padded by one ring of "outside"
+    cells, and the distance t at which it entered the cell. Each step either crosses
+    the nearer cell boundary (t from the ray origin, no accumulated rounding) or, where
+    the distance field proves a longer stretch free, jumps to ``t + free`` and re-locates
+    the cell by flooring. A jump never enters an occupied cell, so the first occupied
+    cell is entered exactly where the plain traversal enters it. Rays reaching an
+    occupied cell, the outside ring or ``t_max`` leave the arrays.
+    """
+    h, w = grid.shape
+    code, free = grid._traversal_tables
+    wf = float(w + 2)
+    out = np.full(gx.size, t_max)
+    x0, y0 = gx + 1.0, gy + 1.0  # padded coordinates
+    j, i = np.floor(x0), np.floor(y0)
+    inv_dx = np.where(dx != 0, 1.0 / np.where(dx != 0, dx, 1.0), 0.0)
+    inv_dy = np.where(dy != 0, 1.0 / np.where(dy != 0, dy, 1.0), 0.0)
+    # Next boundary crossing along x: t_x = j * inv_dx + cx (inf if the ray is vertical).
+    cx = np.where(dx != 0, ((dx > 0) - x0) * inv_dx, np.inf)
+    cy = np.where(dy != 0, ((dy > 0) - y0) * inv_dy, np.inf)
+    sx = np.where(dx > 0, 1.0, -1.0)
+    sy = np.where(dy > 0, 1.0, -1.0)
+    # Open space first, by sphere tracing alone (a cheaper step), while the free radius
+    # exceeds a cell; then the traversal below from where each ray stopped.
+    t = _sphere_trace(free, wf, h + 2.0, x0, y0, dx, dy, t_max)
+    j = np.clip(np.floor(x0 + t * dx), 0.0, wf - 1.0)
+    i = np.clip(np.floor(y0 + t * dy), 0.0, h + 1.0)
+    idx = np.arange(gx.size)
+    while idx.size:
+        cell = (i * wf + j).astype(np.intp)
+        c = code[cell]
+        done = (c != 0) | (t >= t_max)
+        if done.any():
+            hit = done & (c == 1) & (t < t_max)
+            out[idx[hit]] = t[hit]
+            keep = ~done
+            x0, y0, dx, dy = x0[keep], y0[keep], dx[keep], dy[keep]
+            inv_dx, inv_dy, cx, cy = inv_dx[keep], inv_dy[keep], cx[keep], cy[keep]
+            sx, sy, idx, i, j, t = sx[keep], sy[keep], idx[keep], i[keep], j[keep], t[keep]
+            cell = cell[keep]
+            if not idx.size:
+                break
+        tx = j * inv_dx + cx
+        ty = i * inv_dy + cy
+        step_x = tx <= ty
+        t_dda = np.minimum(tx, ty)
+        t_jump = np.minimum(t + free[cell], t_max)
+        jump = t_jump > t_dda
+        t = np.where(jump, t_jump, t_dda)
+        jj = np.clip(np.floor(x0 + t * dx), 0.0, wf - 1.0)
+        ii = np.clip(np.floor(y0 + t * dy), 0.0, h + 1.0)
+        j = np.where(jump, jj, j + sx * step_x)
+        i = np.where(jump, ii, i + sy * ~step_x)
+    return out
+
+
+def _sphere_trace(free, wf, hf, x0, y0, dx, dy, t_max):
+    """Jump each ray by its cell's free radius while that exceeds one cell; return the t reached.
+
+    Every landing point is in free space (the radius is a lower bound of the distance to
+    any occupied cell) or outside the map (then on the padded ring, radius 0).
+    """
+    t_out = np.zeros(x0.size)
+    idx = np.arange(x0.size)
+    t = np.zeros(x0.size)
+    while idx.size:
+        jj = np.clip(np.floor(x0 + t * dx), 0.0, wf - 1.0)
+        ii = np.clip(np.floor(y0 + t * dy), 0.0, hf - 1.0)
+        f = free[(ii * wf + jj).astype(np.intp)]
+        go = (f > 1.0) & (t < t_max)
+        if not go.all():
+            stop = ~go
+            t_out[idx[stop]] = t[stop]
+            idx, t, f = idx[go], t[go], f[go]
+            x0, y0, dx, dy = x0[go], y0[go], dx[go], dy[go]
+        t = np.minimum(t + f, t_max)
+    return t_out
 
 
 def _march(grid, gx, gy, dx, dy, t_max, *, stop=0.5, max_steps=1000):

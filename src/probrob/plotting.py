@@ -510,7 +510,9 @@ def plot_motion_model(
 # --------------------------------------------------------------------------- diagrams
 
 
-def _angle_arc(ax, centre, radius, start, sweep, *, color, label=None, lw=1.4, text_pad=1.35):
+def _angle_arc(
+    ax, centre, radius, start, sweep, *, color, label=None, lw=1.4, text_pad=1.35, away=None
+):
     """Draw an arc with an arrowhead from angle ``start`` through ``sweep`` (rad) about
     ``centre``; put ``label`` just outside its middle. Returns the label's Text (or None)."""
     cx, cy = centre
@@ -527,13 +529,16 @@ def _angle_arc(ax, centre, radius, start, sweep, *, color, label=None, lw=1.4, t
     if label is None:
         return None
     mid = start + sweep / 2
+    # The text runs from its anchor in the direction ``away`` (default: out of the arc's
+    # middle), so that it does not cross the lines the arc sits between.
+    ux, uy = (np.cos(mid), np.sin(mid)) if away is None else away
     return ax.text(
         cx + text_pad * radius * np.cos(mid),
         cy + text_pad * radius * np.sin(mid),
         label,
         color=color,
-        ha="left" if np.cos(mid) > 0.3 else "right" if np.cos(mid) < -0.3 else "center",
-        va="bottom" if np.sin(mid) > 0.3 else "top" if np.sin(mid) < -0.3 else "center",
+        ha="left" if ux > 0.3 else "right" if ux < -0.3 else "center",
+        va="bottom" if uy > 0.3 else "top" if uy < -0.3 else "center",
     )
 
 
@@ -623,9 +628,9 @@ def plot_velocity_geometry(x_prev, x_t, dt=1.0, ax=None, *, arrow=None):
         ax.annotate(
             "$(x^*, y^*)$",
             centre,
-            xytext=(-8, 8),
+            xytext=(0, 9),
             textcoords="offset points",
-            ha="right",
+            ha="center",
             color="tab:green",
         )
         ax.plot([mid[0], centre[0]], [mid[1], centre[1]], ":", color="tab:green", lw=1.2)
@@ -638,11 +643,12 @@ def plot_velocity_geometry(x_prev, x_t, dt=1.0, ax=None, *, arrow=None):
         )
         for px, py in ((x, y), (xp, yp)):
             ax.plot([centre[0], px], [centre[1], py], color="tab:orange", lw=1.2)
+        to_start_deg = _upright_degrees(np.arctan2(y - centre[1], x - centre[0]))
         ax.text(
-            *(centre + 0.62 * np.array([xp, yp] - centre)),
+            *(centre + 0.5 * np.array([x, y] - centre)),
             f"$r^* = {rad:.2f}$ m",
             color="tab:orange",
-            rotation=_upright_degrees(np.arctan2(yp - centre[1], xp - centre[0])),
+            rotation=to_start_deg,
             rotation_mode="anchor",
             ha="center",
             va="bottom",
@@ -700,7 +706,7 @@ def plot_velocity_geometry(x_prev, x_t, dt=1.0, ax=None, *, arrow=None):
     return _finish_diagram(ax, points, pad=0.2 * max(dist, 0.5))
 
 
-def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None):
+def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None, hat=False):
     r"""Draw :math:`\delta_{rot1}, \delta_{trans}, \delta_{rot2}` between two poses.
 
     *Probabilistic Robotics*, Table 5.5, lines 2–4 (Fig. 5.7's decomposition): turn by
@@ -715,6 +721,10 @@ def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None):
     ax : matplotlib.axes.Axes, optional
     arrow : float, optional
         Length of the heading arrows in m; default a quarter of :math:`\delta_{trans}`.
+    hat : bool
+        Label a hypothesis instead: :math:`\hat\delta` between :math:`x_{t-1}, x_t`
+        (Table 5.5, lines 5–7) rather than :math:`\delta` between
+        :math:`\bar x_{t-1}, \bar x_t`.
 
     Returns
     -------
@@ -727,6 +737,9 @@ def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None):
     rot1, trans, rot2 = (float(d) for d in odometry_deltas(a, b))
     arrow = (0.25 * trans if trans > 0 else 0.3) if arrow is None else float(arrow)
     travel = a[2] + rot1
+    d = "\\hat\\delta" if hat else "\\delta"
+    name = "x" if hat else "\\bar x"
+    right = np.array([np.sin(travel), -np.cos(travel)])  # normal to the right of travel
     ax.plot(
         [a[0], a[0] + 1.6 * arrow * np.cos(a[2])],
         [a[1], a[1] + 1.6 * arrow * np.sin(a[2])],
@@ -738,7 +751,7 @@ def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None):
     mid = (a[:2] + b[:2]) / 2
     normal = np.array([-np.sin(travel), np.cos(travel)])
     ax.annotate(
-        f"$\\delta_{{trans}} = {trans:.2f}$ m",
+        f"${d}_{{trans}} = {trans:.2f}$ m",
         mid + 0.1 * (b[:2] - a[:2]),
         xytext=tuple(10 * normal),
         textcoords="offset points",
@@ -763,8 +776,9 @@ def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None):
             a[2],
             rot1,
             color="tab:green",
-            label=f"$\\delta_{{rot1}} = {rot1:.2f}$ rad",
+            label=f"${d}_{{rot1}} = {rot1:.2f}$ rad",
             text_pad=1.15,
+            away=tuple(right * (1 if rot1 >= 0 else -1)),
         ),
         _angle_arc(
             ax,
@@ -773,15 +787,18 @@ def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None):
             travel,
             rot2,
             color="tab:red",
-            label=f"$\\delta_{{rot2}} = {rot2:.2f}$ rad",
+            label=f"${d}_{{rot2}} = {rot2:.2f}$ rad",
             text_pad=1.15,
+            away=tuple(right * (-1 if rot2 >= 0 else 1)),
         ),
     ]
     plot_pose(a, ax=ax, length=arrow)
     plot_pose(b, ax=ax, length=arrow, color="tab:blue")
-    ax.annotate("$\\bar x_{t-1}$", a[:2], xytext=(-6, -14), textcoords="offset points", ha="right")
     ax.annotate(
-        "$\\bar x_t$", b[:2], xytext=(6, -14), textcoords="offset points", color="tab:blue"
+        f"${name}_{{t-1}}$", a[:2], xytext=(-6, -14), textcoords="offset points", ha="right"
+    )
+    ax.annotate(
+        f"${name}_t$", b[:2], xytext=(6, -14), textcoords="offset points", color="tab:blue"
     )
     points = [a[:2], b[:2]] + [t.get_position() for t in texts]
     return _finish_diagram(ax, points, pad=1.2 * arrow)

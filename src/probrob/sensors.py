@@ -505,8 +505,13 @@ def _mixture(z, z_star, p: BeamModelParams, log):
     zmax, sigma, lam = p.max_range, p.sigma_hit, p.lambda_short
     z, z_star = np.broadcast_arrays(z, z_star)
     u = (z - z_star) / sigma
-    mass = ndtr((zmax - z_star) / sigma) - ndtr(-z_star / sigma)
-    q = (p.z_hit / (sigma * np.sqrt(2.0 * np.pi))) * np.exp(-0.5 * u * u) / mass
+    q = (p.z_hit / (sigma * np.sqrt(2.0 * np.pi))) * np.exp(-0.5 * u * u)
+    # p_hit's normaliser differs from 1 (in double precision) only within 9σ of 0 or z_max.
+    near = (z_star < 9.0 * sigma) | (z_star > zmax - 9.0 * sigma)
+    if near.any():
+        zn = z_star[near]
+        q = np.array(q, dtype=float)  # writable, also for 0-d input
+        q[near] /= ndtr((zmax - zn) / sigma) - ndtr(-zn / sigma)
     at_max = z >= zmax
     if p.z_short > 0:
         positive = z_star > 0
@@ -634,7 +639,7 @@ def sample_beam_mixture(z_star, params, size=None, rng=None):
     p = _check_params(params)
     z_star = _check_expected(z_star, p.max_range)
     shape = check.output_shape(z_star.shape, size)
-    rng = np.random.default_rng(rng)
+    rng = check.rng(rng)
     zs = np.broadcast_to(z_star, shape)
     comp = rng.choice(4, size=shape, p=p.weights / p.weights.sum())
     u = rng.random(shape)
@@ -826,8 +831,7 @@ def learn_intrinsic_parameters(
     e_step = check.choice(e_step, "e_step", ("weighted", "deck"))
     m_step = check.choice(m_step, "m_step", ("exact", "book"))
     tol = check.positive_scalar(tol, "tol")
-    if not (isinstance(max_iter, int | np.integer) and max_iter >= 1):
-        raise ValueError(f"max_iter must be a positive integer, got {max_iter!r}")
+    max_iter = check.count(max_iter, "max_iter", minimum=1)
     at_max = z >= max_range
     if init is None:
         dev = np.abs(z - z_star)[~at_max]

@@ -27,6 +27,8 @@ calls the models. ``ipywidgets`` and ``IPython`` are imported only when used.
 from __future__ import annotations
 
 import re
+import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -253,8 +255,9 @@ def parameter_player(
 
     The one player factory of the book: a chapter passes a function that draws one
     frame on a fresh ``Axes`` (calling :mod:`probrob.plotting`, which calls the
-    models) and the values of the parameter to sweep. The player is
-    ``matplotlib.animation.FuncAnimation(...).to_jshtml()``: self-contained HTML and
+    models) and the values of the parameter to sweep. The player is what
+    ``matplotlib.animation.FuncAnimation(...).to_jshtml()`` makes (written by
+    matplotlib's ``HTMLWriter``, drawing each frame once): self-contained HTML and
     JavaScript with every frame embedded as a PNG, which runs offline in any browser,
     with no kernel and no network (the Font Awesome stylesheet that ``to_jshtml``
     links from a CDN is removed; the book's theme ships the icons). The frame image
@@ -301,7 +304,7 @@ def parameter_player(
 
     import matplotlib.pyplot as plt
     from IPython.display import HTML
-    from matplotlib.animation import FuncAnimation
+    from matplotlib.animation import HTMLWriter
 
     from .plotting import BOOK_DPI
 
@@ -329,9 +332,19 @@ def parameter_player(
         if not ax.get_title():
             ax.set_title(f"{label} = {values[k]:{fmt}}")
 
-    anim = FuncAnimation(fig, frame, frames=len(values), interval=interval)
-    page = anim.to_jshtml(default_mode="once")
-    plt.close(fig)
+    # What FuncAnimation.to_jshtml does, without its extra full redraw of every frame
+    # before the frame is saved: the HTMLWriter saves each frame once, as a PNG.
+    writer = HTMLWriter(fps=1000 / interval, embed_frames=True, default_mode="once")
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            path = Path(tmp, "player.html")
+            with writer.saving(fig, path, dpi=dpi):
+                for k in range(len(values)):
+                    frame(k)
+                    writer.grab_frame()
+            page = path.read_text(encoding="utf-8")
+    finally:
+        plt.close(fig)
     # to_jshtml links Font Awesome from a CDN for its button icons; the book's theme ships
     # Font Awesome itself, and a page that works offline must not reach out.
     page = _CDN_STYLESHEET.sub("", page)
@@ -452,27 +465,22 @@ def alpha_player(
     )
 
 
-# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live) ----------
+# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live, where the
+# generic pieces for a new widget live: Slider, Choice, LiveWidget, standard_draws) ----------
 from ._live import (  # noqa: E402
-    Choice,
-    LiveWidget,
-    Slider,
-    landmark_draws,
+    beam_model_live,
+    distribution_live,
     landmark_model_live,
     live_widget,
     odometry_model_live,
-    standard_draws,
     velocity_model_live,
 )
 
 __all__ += [
-    "Choice",
-    "LiveWidget",
-    "Slider",
-    "landmark_draws",
+    "beam_model_live",
+    "distribution_live",
     "landmark_model_live",
     "live_widget",
     "odometry_model_live",
-    "standard_draws",
     "velocity_model_live",
 ]

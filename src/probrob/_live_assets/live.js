@@ -13,6 +13,10 @@
 //                          out[i*nx + j] at (xs[j], ys[i])) with the density; theta = heading(p)
 //   title(p)            -> string above the plot
 //   densityLabel(p)     -> string beside the colour bar
+// A kernel with kind: "curve" draws a function of one variable instead (a sensor model such as
+// the beam model's p(z | z*)): sample fills n values (a histogram is drawn of them), density
+// fills one value per xs (ys is [0]), xRange(p) -> [x0, x1] replaces markers and heading, and
+// labels(p) -> {x, y} names the axes (see distribution.js).
 // where p holds every slider and choice value by name, plus p.logProb(a, b2), the log of the
 // zero-mean density of Table 5.2 chosen by p.distribution (default "normal").
 
@@ -142,7 +146,7 @@ function fmtTick(t) {
 function mountLiveWidget(root, config, kernel) {
   const n = config.n;
   const nx = config.grid;
-  const ny = config.grid;
+  const ny = kernel.kind === "curve" ? 1 : config.grid;
   const draws = {};
   for (const [name, b64] of Object.entries(config.draws)) draws[name] = decodeFloat64(b64);
   const canvas = root.querySelector("canvas");
@@ -160,7 +164,8 @@ function mountLiveWidget(root, config, kernel) {
   const imageCtx = image.getContext("2d");
   const pixels = imageCtx.createImageData(nx, ny);
 
-  const particles = new Float64Array(n * 3);
+  const curve = kernel.kind === "curve";
+  const particles = new Float64Array(curve ? n : n * 3);
   const density = new Float64Array(nx * ny);
   const xs = new Float64Array(nx);
   const ys = new Float64Array(ny);
@@ -236,6 +241,13 @@ function mountLiveWidget(root, config, kernel) {
   function compute(refit) {
     const p = params();
     kernel.sample(p, draws[p.family], n, particles, draws);
+    if (curve) {
+      view = [...kernel.xRange(p), 0, 0];
+      const dx = (view[1] - view[0]) / nx;
+      for (let j = 0; j < nx; j++) xs[j] = view[0] + (j + 0.5) * dx;
+      kernel.density(p, xs, ys, null, density);
+      return { p, markers: [] };
+    }
     const markers = kernel.markers(p);
     updateView(fitBox(markers), refit);
     const dx = (view[1] - view[0]) / nx;
@@ -275,11 +287,87 @@ function mountLiveWidget(root, config, kernel) {
     ctx.fill();
   }
 
+  // A plot box of PW x PH pixels at (M.left, M.top) for [x0, x1] x [y0, y1]: frame, ticks,
+  // axis labels and title; returns the maps from data to pixels.
+  function frame(x0, x1, y0, y1, PW, PH, xlabel, ylabel, title) {
+    const sx = (x) => M.left + ((x - x0) / (x1 - x0)) * PW;
+    const sy = (y) => M.top + PH - ((y - y0) / (y1 - y0)) * PH;
+    ctx.strokeStyle = "#000";
+    ctx.lineWidth = 1;
+    ctx.strokeRect(M.left + 0.5, M.top + 0.5, PW, PH);
+    ctx.fillStyle = "#000";
+    ctx.font = "12px sans-serif";
+    ctx.textAlign = "center";
+    ctx.textBaseline = "top";
+    for (const t of niceTicks(x0, x1, 5)) {
+      const X = sx(t);
+      ctx.fillRect(X, M.top + PH, 1, 5);
+      ctx.fillText(fmtTick(t), X, M.top + PH + 7);
+    }
+    ctx.fillText(xlabel, M.left + PW / 2, M.top + PH + 26);
+    ctx.textAlign = "right";
+    ctx.textBaseline = "middle";
+    for (const t of niceTicks(y0, y1, 5)) {
+      const Y = sy(t);
+      ctx.fillRect(M.left - 5, Y, 5, 1);
+      ctx.fillText(fmtTick(t), M.left - 7, Y);
+    }
+    ctx.save();
+    ctx.translate(16, M.top + PH / 2);
+    ctx.rotate(-Math.PI / 2);
+    ctx.textAlign = "center";
+    ctx.fillText(ylabel, 0, 0);
+    ctx.restore();
+    ctx.textAlign = "center";
+    ctx.textBaseline = "bottom";
+    ctx.font = "13px sans-serif";
+    ctx.fillText(title, M.left + PW / 2, M.top - 10);
+    return [sx, sy];
+  }
+
+  // kind "curve": a histogram of the samples (as a density) under the kernel's curve
+  function drawCurve(p) {
+    const [x0, x1] = view;
+    const bins = 40;
+    const width = (x1 - x0) / bins;
+    const hist = new Float64Array(bins);
+    for (let i = 0; i < n; i++) {
+      const k = Math.floor((particles[i] - x0) / width);
+      if (k >= 0 && k < bins) hist[k] += 1 / (n * width);
+    }
+    let ymax = 0;
+    for (const v of density) if (Number.isFinite(v)) ymax = Math.max(ymax, v);
+    for (const v of hist) ymax = Math.max(ymax, v);
+    ymax = ymax > 0 ? ymax * 1.08 : 1;
+    const PW = W - M.left - 24;
+    const PH = H - M.top - M.bottom;
+    const labels = kernel.labels(p);
+    const [sx, sy] = frame(x0, x1, 0, ymax, PW, PH, labels.x, labels.y, kernel.title(p));
+    ctx.fillStyle = "rgba(214, 39, 40, 0.35)";
+    for (let k = 0; k < bins; k++) {
+      const top = sy(Math.min(hist[k], ymax));
+      ctx.fillRect(sx(x0 + k * width), top, sx(x0 + (k + 1) * width) - sx(x0 + k * width), sy(0) - top);
+    }
+    ctx.strokeStyle = "#1f77b4";
+    ctx.lineWidth = 2;
+    ctx.beginPath();
+    for (let j = 0; j < nx; j++) {
+      const y = sy(Math.min(Number.isFinite(density[j]) ? density[j] : ymax, ymax));
+      if (j === 0) ctx.moveTo(sx(xs[j]), y);
+      else ctx.lineTo(sx(xs[j]), y);
+    }
+    ctx.stroke();
+  }
+
   function draw(state) {
     const { p, markers } = state;
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.fillStyle = "#fff";
     ctx.fillRect(0, 0, W, H);
+    if (curve) {
+      drawCurve(p);
+      return;
+    }
     const [x0, x1, y0, y1] = view;
     const sx = (x) => M.left + ((x - x0) / (x1 - x0)) * S;
     const sy = (y) => M.top + S - ((y - y0) / (y1 - y0)) * S;
@@ -340,37 +428,7 @@ function mountLiveWidget(root, config, kernel) {
     }
     ctx.restore();
 
-    // axes
-    ctx.strokeStyle = "#000";
-    ctx.lineWidth = 1;
-    ctx.strokeRect(M.left + 0.5, M.top + 0.5, S, S);
-    ctx.fillStyle = "#000";
-    ctx.font = "12px sans-serif";
-    ctx.textAlign = "center";
-    ctx.textBaseline = "top";
-    for (const t of niceTicks(x0, x1, 5)) {
-      const X = sx(t);
-      ctx.fillRect(X, M.top + S, 1, 5);
-      ctx.fillText(fmtTick(t), X, M.top + S + 7);
-    }
-    ctx.fillText("x [m]", M.left + S / 2, M.top + S + 26);
-    ctx.textAlign = "right";
-    ctx.textBaseline = "middle";
-    for (const t of niceTicks(y0, y1, 5)) {
-      const Y = sy(t);
-      ctx.fillRect(M.left - 5, Y, 5, 1);
-      ctx.fillText(fmtTick(t), M.left - 7, Y);
-    }
-    ctx.save();
-    ctx.translate(16, M.top + S / 2);
-    ctx.rotate(-Math.PI / 2);
-    ctx.textAlign = "center";
-    ctx.fillText("y [m]", 0, 0);
-    ctx.restore();
-    ctx.textAlign = "center";
-    ctx.textBaseline = "bottom";
-    ctx.font = "13px sans-serif";
-    ctx.fillText(kernel.title(p), M.left + S / 2, M.top - 10);
+    frame(x0, x1, y0, y1, S, S, "x [m]", "y [m]", kernel.title(p));
 
     // colour bar
     const cbx = M.left + S + 16;
@@ -461,7 +519,9 @@ function mountLiveWidget(root, config, kernel) {
     for (const name of Object.keys(defaults)) show(name);
     update(true);
   });
-  root.querySelector('[data-action="fit"]').addEventListener("click", () => update(true));
+  const fit = root.querySelector('[data-action="fit"]');
+  fit.addEventListener("click", () => update(true));
+  if (curve) fit.hidden = true; // a curve's axis follows its parameters
 
   // ---- the test hook (documented in probrob/_live.py) ---------------------------------
   const handle = {
@@ -489,7 +549,7 @@ function mountLiveWidget(root, config, kernel) {
         n,
         nx,
         ny,
-        markers: kernel.markers(p),
+        markers: curve ? [] : kernel.markers(p),
         theta: hypothesisHeading,
         view: view.slice(),
         xs: encodeFloat64(xs),
