@@ -14,6 +14,8 @@ returned unchanged, bit for bit. NaN and :math:`\pm\infty` have no direction and
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from . import _validation as check
@@ -43,7 +45,23 @@ def _wrap(theta: np.ndarray) -> np.ndarray:
     (``fmod`` is exact, and moving its result by one turn is exact by Sterbenz's lemma), so
     it never leaves the range and θ in range comes back unchanged. Angles below
     ``_FAST_LIMIT`` in magnitude take a faster route to the same bits.
+
+    A Python ``float`` (exactly that type) takes the same steps in scalar arithmetic and
+    returns a ``float``, bit for bit the array result (``round`` and ``np.round`` both
+    round half to even): the filters' per-feature loops wrap one bearing at a time.
     """
+    if type(theta) is float:
+        if -_FAST_LIMIT < theta < _FAST_LIMIT:
+            r = theta - round(theta * (1.0 / _TWO_PI)) * _TWO_PI
+        elif math.isinf(theta):  # no direction (the array path gives NaN too)
+            return math.nan
+        else:
+            r = math.fmod(theta, _TWO_PI)
+        if r >= math.pi:
+            r -= _TWO_PI
+        if r < -math.pi:
+            r += _TWO_PI
+        return r
     theta = np.asarray(theta)
     turns = np.round(theta * (1.0 / _TWO_PI))
     turns *= _TWO_PI

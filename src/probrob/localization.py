@@ -40,9 +40,19 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _validation as check
-from .angles import wrap_angle
-from .motion import velocity_motion, velocity_motion_jacobians
-from .sensors import landmark_measurement, landmark_measurement_jacobian
+from .angles import _wrap
+from .motion import (
+    _arc,
+    _velocity_jacobian_entries,
+    _velocity_jacobians_core,
+    _velocity_motion_core,
+)
+from .sensors import (
+    _jacobian_entries,
+    _landmark_jacobian_core,
+    _landmark_measurement_core,
+    _range_bearing,
+)
 
 __all__ = [
     "FilterRun",
@@ -72,7 +82,8 @@ def _covariance(Sigma, name: str = "Sigma") -> np.ndarray:
     S = check.finite(Sigma, name)
     if S.shape != (3, 3):
         raise ValueError(f"{name} must have shape (3, 3), got {S.shape}")
-    if not np.allclose(S, S.T, rtol=1e-9, atol=1e-12):
+    # np.allclose(S, S.T, rtol=1e-9, atol=1e-12), spelled out (a third of the cost).
+    if not np.all(np.abs(S - S.T) <= 1e-12 + 1e-9 * np.abs(S.T)):
         raise ValueError(f"{name} must be symmetric")
     # Singular but positive semi-definite is legal (Σ = 0 is a known pose).
     _psd(S, name)
@@ -193,12 +204,49 @@ def _motion_noise(alpha: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 def _ekf_predict(mu, Sigma, u, dt, alpha):
-    """Lines 2–7 of Tables 7.2 and 7.3."""
-    G, V = velocity_motion_jacobians(mu, u, dt)
-    mu_bar = velocity_motion(mu, u, dt)
-    M = _motion_noise(alpha, u)
-    Sigma_bar = G @ Sigma @ G.T + (V * M) @ V.T
-    return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T)
+    """Lines 2–7 of Tables 7.2 and 7.3 (validated input), as arrays."""
+    mu_bar, P = _ekf_predict_floats(mu, Sigma, u, dt, alpha)
+    (p00, p01, p02, p11, p12, p22) = P
+    return np.array(mu_bar), np.array([[p00, p01, p02], [p01, p11, p12], [p02, p12, p22]])
+
+
+def _ekf_predict_floats(mu, Sigma, u, dt, alpha):
+    r"""Lines 2–7 of Tables 7.2 and 7.3 in scalar arithmetic.
+
+    :math:`g` and the entries of :math:`G_t, V_t` come from the model code of
+    :mod:`probrob.motion` (``_arc``, ``_velocity_jacobian_entries``) evaluated on floats.
+    With :math:`G = I + g e_3^T`, :math:`g = (G_{13}, G_{23}, 0)`:
+    :math:`(G\Sigma G^T)_{ij} = \Sigma_{ij} + g_i\Sigma_{3j} + \Sigma_{i3} g_j +
+    g_i g_j \Sigma_{33}` and :math:`(V M V^T)_{ij} = \sum_k M_k V_{ik} V_{jk}`.
+    Returns :math:`ar\mu` as a tuple and the upper triangle
+    :math:`(ar\Sigma_{11}, ar\Sigma_{12}, ar\Sigma_{13}, ar\Sigma_{22},
+    ar\Sigma_{23}, ar\Sigma_{33})`. ``Sigma`` is symmetrised first (it is validated
+    symmetric to 1e-9 relative).
+    """
+    x, y, th = mu.tolist()
+    v, w = u.tolist()
+    a1, a2, a3, a4 = alpha.tolist()
+    try:
+        mu_bar = _arc(x, y, th, v, w, dt)
+        g0, g1, v00, v10, v01, v11 = _velocity_jacobian_entries(th, v, w, dt)
+    except ValueError:  # math.sin(inf): an overflowing control
+        raise ValueError(
+            "the filter produced a non-finite estimate; check the inputs' scales"
+        ) from None
+    m0 = a1 * v * v + a2 * w * w
+    m1 = a3 * v * v + a4 * w * w
+    (s00, s01, s02), (s10, s11, s12), (s20, s21, s22) = Sigma.tolist()
+    s01 = 0.5 * (s01 + s10)
+    s02 = 0.5 * (s02 + s20)
+    s12 = 0.5 * (s12 + s21)
+    # G Σ G^T (g_2 = 0), then + V M V^T (V_31 = 0, V_32 = Δt).
+    p00 = s00 + 2.0 * g0 * s02 + g0 * g0 * s22 + m0 * v00 * v00 + m1 * v01 * v01
+    p01 = s01 + g0 * s12 + s02 * g1 + g0 * g1 * s22 + m0 * v00 * v10 + m1 * v01 * v11
+    p11 = s11 + 2.0 * g1 * s12 + g1 * g1 * s22 + m0 * v10 * v10 + m1 * v11 * v11
+    p02 = s02 + g0 * s22 + m1 * v01 * dt
+    p12 = s12 + g1 * s22 + m1 * v11 * dt
+    p22 = s22 + m1 * dt * dt
+    return mu_bar, (p00, p01, p02, p11, p12, p22)
 
 
 def ekf_predict_segment(mu, Sigma, u, dt, alpha):
@@ -261,12 +309,12 @@ def _predict_segment(mu, Sigma, u, dt, alpha):
     starts = np.zeros((n, 3))
     starts[0, 2] = mu[2]
     starts[1:, 2] = mu[2] + np.cumsum(ud[:-1, 1])
-    steps = velocity_motion(starts, ud, 1.0)  # position increments, and the new headings
+    steps = _velocity_motion_core(starts, ud, 1.0)  # position increments, new headings
     mus = np.empty((n, 3))
     mus[:, 0] = mu[0] + np.cumsum(steps[:, 0])
     mus[:, 1] = mu[1] + np.cumsum(steps[:, 1])
     mus[:, 2] = steps[:, 2]
-    G, V = velocity_motion_jacobians(starts, ud, 1.0)
+    G, V = _velocity_jacobians_core(starts, ud, 1.0)
     V *= dt[:, None, None]
     var = np.stack(
         [
@@ -308,7 +356,7 @@ def _predict_segment(mu, Sigma, u, dt, alpha):
 def _innovation(z: np.ndarray, zhat: np.ndarray) -> np.ndarray:
     """``z - zhat`` with the bearing (second component) wrapped to [-π, π)."""
     nu = z - zhat
-    nu[..., 1] = wrap_angle(nu[..., 1])
+    nu[..., 1] = _wrap(nu[..., 1])
     return nu
 
 
@@ -344,7 +392,7 @@ def _correct(mu_bar, Sigma_bar, nu, H, S):
 
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
     mu = mu.copy()
-    mu[2] = wrap_angle(mu[2])
+    mu[2] = _wrap(float(mu[2]))
     if not np.all(np.isfinite(mu)) or not np.all(np.isfinite(Sigma)):
         raise ValueError("the filter produced a non-finite estimate; check the inputs' scales")
     return mu, Sigma
@@ -487,24 +535,78 @@ def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sig
 
 def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
     """Table 7.2 on validated input; returns μ, Σ and log p(z)."""
-    mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)
-    return _ekf_known_correct(mu_bar, Sigma_bar, z, c, m, sigmas)
+    mu_bar, P = _ekf_predict_floats(mu, Sigma, u, dt, alpha)
+    return _ekf_known_correct(mu_bar, P, z, c, m, sigmas)
 
 
-def _ekf_known_correct(mu_bar, Sigma_bar, z, c, m, sigmas):
-    """Lines 8–21 of Table 7.2: the features in sequence."""
+def _ekf_known_correct(mu_bar, P, z, c, m, sigmas):
+    r"""Lines 8–21 of Table 7.2: the features in sequence, in scalar arithmetic.
+
+        The same algebra as :func:`_correct` (:math:`S = Har\Sigma H^T + Q_t`,
+        :math:`K = ar\Sigma H^T S^{-1}`, :math:`ar\mu \mathrel{+}= K
+    u`,
+        :math:`ar\Sigma \mathrel{-}= K (ar\Sigma H^T)^T`, :math:`\log N(
+    u; 0, S)`) written
+        out on Python floats, because a step is a few 3×3 products per feature and a numpy call
+        on such tiny arrays costs more than the arithmetic. :math:`\hat z` and :math:`H` come
+        from the same model code as :func:`probrob.sensors.landmark_measurement` and
+        :func:`probrob.sensors.landmark_measurement_jacobian` (``_range_bearing``,
+        ``_jacobian_entries``). The third row of :math:`H` (signature) is zero, so :math:`S`
+        is block-diagonal, :math:`\mathrm{diag}(S_{2	imes2}, \sigma_s^2)`, and the signature
+        enters only :math:`p(z_t)`. ``mu_bar`` and ``P`` as returned by
+        :func:`_ekf_predict_floats`.
+    """
     d = z.shape[1]
-    Q = np.diag(sigmas[:d] ** 2)
+    s_r2, s_p2 = float(sigmas[0]) ** 2, float(sigmas[1]) ** 2
+    s_s2 = float(sigmas[2]) ** 2 if d == 3 else 1.0
+    const = d * _LOG_2PI + (math.log(s_s2) if d == 3 else 0.0)
+    x, y, th = mu_bar
+    p00, p01, p02, p11, p12, p22 = P
+    p10, p20, p21 = p01, p02, p12
+    feats = z.tolist()
+    lms = m[c].tolist()
     log_pz = 0.0
-    for i in range(z.shape[0]):
-        landmark = m[c[i], :d]
-        zhat = landmark_measurement(mu_bar, landmark)
-        H = landmark_measurement_jacobian(mu_bar, landmark)
-        S = H @ Sigma_bar @ H.T + Q
-        nu = _innovation(z[i], zhat)
-        mu_bar, Sigma_bar, logp = _correct(mu_bar, Sigma_bar, nu, H, S)
-        log_pz += logp
-    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
+    for f, lm in zip(feats, lms, strict=True):
+        dx, dy = lm[0] - x, lm[1] - y
+        r_hat, phi_hat = _range_bearing(dx, dy, th)
+        h00, h01, h10, h11 = _jacobian_entries(dx, dy)
+        # P H^T (third column zero): rows a = x, y, θ.
+        a0, a1 = p00 * h00 + p01 * h01, p00 * h10 + p01 * h11 - p02
+        b0, b1 = p10 * h00 + p11 * h01, p10 * h10 + p11 * h11 - p12
+        c0, c1 = p20 * h00 + p21 * h01, p20 * h10 + p21 * h11 - p22
+        s00 = h00 * a0 + h01 * b0 + s_r2
+        s01 = h00 * a1 + h01 * b1
+        s10 = h10 * a0 + h11 * b0 - c0
+        s11 = h10 * a1 + h11 * b1 - c1 + s_p2
+        s01 = s10 = 0.5 * (s01 + s10)
+        det = s00 * s11 - s01 * s10
+        if not (det > 0.0 and s00 > 0.0 and s11 > 0.0):
+            raise ValueError("S is not positive definite; check the scales of Sigma and sigmas")
+        i00, i01, i11 = s11 / det, -s01 / det, s00 / det
+        n0 = f[0] - r_hat
+        n1 = _wrap(f[1] - phi_hat)
+        # K = P H^T S^{-1} (first two columns; the third is zero).
+        k00, k01 = a0 * i00 + a1 * i01, a0 * i01 + a1 * i11
+        k10, k11 = b0 * i00 + b1 * i01, b0 * i01 + b1 * i11
+        k20, k21 = c0 * i00 + c1 * i01, c0 * i01 + c1 * i11
+        x += k00 * n0 + k01 * n1
+        y += k10 * n0 + k11 * n1
+        th += k20 * n0 + k21 * n1
+        # Σ -= K (P H^T)^T, symmetrised.
+        p00 -= k00 * a0 + k01 * a1
+        p11 -= k10 * b0 + k11 * b1
+        p22 -= k20 * c0 + k21 * c1
+        p01 = p10 = p01 - 0.5 * ((k00 * b0 + k01 * b1) + (k10 * a0 + k11 * a1))
+        p02 = p20 = p02 - 0.5 * ((k00 * c0 + k01 * c1) + (k20 * a0 + k21 * a1))
+        p12 = p21 = p12 - 0.5 * ((k10 * c0 + k11 * c1) + (k20 * b0 + k21 * b1))
+        d2 = n0 * (i00 * n0 + i01 * n1) + n1 * (i01 * n0 + i11 * n1)
+        if d == 3:
+            n2 = f[2] - lm[2]
+            d2 += n2 * n2 / s_s2
+        log_pz += -0.5 * (d2 + math.log(det) + const)
+    mu_t = np.array([x, y, th])
+    Sigma_t = np.array([[p00, p01, p02], [p10, p11, p12], [p20, p21, p22]])
+    mu_t, Sigma_t = _finish(mu_t, Sigma_t)
     return mu_t, Sigma_t, log_pz
 
 
@@ -564,8 +666,8 @@ def _ekf_ml_correct(mu_bar, Sigma_bar, z, m, sigmas, threshold):
     landmarks = m[:, :d]
     chosen = np.full(z.shape[0], -1, dtype=int)
     for i in range(z.shape[0]):
-        zhat = landmark_measurement(mu_bar, landmarks)  # (L, d)
-        H = landmark_measurement_jacobian(mu_bar, landmarks)  # (L, d, 3)
+        zhat = _landmark_measurement_core(mu_bar, landmarks)  # (L, d)
+        H = _landmark_jacobian_core(mu_bar, landmarks)  # (L, d, 3)
         S = H @ Sigma_bar @ np.swapaxes(H, -1, -2) + Q
         nu = _innovation(z[i], zhat)
         d2, logp = _gaussian_terms(nu, S)
@@ -628,7 +730,7 @@ def _angle_mean(angles: np.ndarray, wm: np.ndarray) -> float:
     :math:`w_0` (where a mean of unit vectors would not).
     """
     ref = angles[0]
-    return ref + float(wm @ wrap_angle(angles - ref))
+    return ref + float(wm @ _wrap(angles - ref))
 
 
 def ukf_localization(
@@ -759,11 +861,11 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
     chi[n + 1 :] -= gamma * root.T
 
     # Lines 7-9: motion of every sigma point with its own control noise.
-    xbar = velocity_motion(chi[:, :3], u + chi[:, 3:5], dt)
+    xbar = _velocity_motion_core(chi[:, :3], u + chi[:, 3:5], dt)
     mu_bar = wm @ xbar
     mu_bar[2] = _angle_mean(xbar[:, 2], wm)
     dx = xbar - mu_bar
-    dx[:, 2] = wrap_angle(dx[:, 2])
+    dx[:, 2] = _wrap(dx[:, 2])
     Sigma_bar = (wc[:, None] * dx).T @ dx
     Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
     _psd(Sigma_bar, "the predicted covariance (check ukf_alpha, beta, kappa)")
@@ -772,11 +874,11 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
         return mu_t, Sigma_t, 0.0
 
     # Lines 10-13: predicted measurements of every sigma point, stacked over features.
-    Z = landmark_measurement(xbar[:, None, :], m[c][None, :, :])[..., :2]  # (2n+1, K, 2)
-    Z = Z + chi[:, 5:].reshape(2 * n + 1, k, 2)
+    Z = _landmark_measurement_core(xbar[:, None, :], m[c][None, :, :2])  # (2n+1, K, 2)
+    Z += chi[:, 5:].reshape(2 * n + 1, k, 2)
     zhat = np.einsum("i,ikd->kd", wm, Z)
-    for f in range(k):
-        zhat[f, 1] = _angle_mean(Z[:, f, 1], wm)
+    ref = Z[0, :, 1]  # the bearing means on the circle (_angle_mean), all features at once
+    zhat[:, 1] = ref + wm @ _wrap(Z[:, :, 1] - ref)
     dz = _innovation(Z, zhat).reshape(2 * n + 1, 2 * k)
     S = (wc[:, None] * dz).T @ dz
     S = 0.5 * (S + S.T)
@@ -872,12 +974,12 @@ def _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold):
     chi[:, :3] = mu
     chi[1 : n + 1] += gamma * root.T
     chi[n + 1 :] -= gamma * root.T
-    xbar = velocity_motion(chi[:, :3], u + chi[:, 3:5], dt)
-    Z = landmark_measurement(xbar[:, None, :], m[None, :, :2])  # (15, L, 2)
+    xbar = _velocity_motion_core(chi[:, :3], u + chi[:, 3:5], dt)
+    Z = _landmark_measurement_core(xbar[:, None, :], m[None, :, :2])  # (15, L, 2)
     Z = Z + chi[:, None, 5:7]
     zhat = np.einsum("i,ild->ld", wm, Z)
     ref = Z[0, :, 1]
-    zhat[:, 1] = ref + wm @ wrap_angle(Z[:, :, 1] - ref)
+    zhat[:, 1] = ref + wm @ _wrap(Z[:, :, 1] - ref)
     dz = _innovation(Z, zhat)  # (15, L, 2)
     S = np.einsum("i,ila,ilb->lab", wc, dz, dz)
     chosen = np.full(k, -1, dtype=int)
@@ -932,7 +1034,7 @@ def fit_measurement_noise(z, c, poses, m):
         raise ValueError(f"poses must have shape ({z.shape[0]}, 3), got {poses.shape}")
     if z.shape[0] < 2:
         raise ValueError("z: at least two measurements are needed to fit a noise")
-    res = _innovation(z[:, :2], landmark_measurement(poses, m[c, :2]))
+    res = _innovation(z[:, :2], _landmark_measurement_core(poses, m[c, :2]))
     bias = res.mean(axis=0)
     sigma = res.std(axis=0)
     med = np.median(res, axis=0)
@@ -1132,7 +1234,7 @@ def nees(x_true, mu, Sigma):
 
 def _innovation_pose(x_true, mu):
     e = np.subtract(x_true, mu)
-    e[..., 2] = wrap_angle(e[..., 2])
+    e[..., 2] = _wrap(e[..., 2])
     return e
 
 
@@ -1249,7 +1351,7 @@ def run_filter(
             while j < T and zs[j].shape[0] == 0:
                 j += 1
             seg_mu, seg_Sigma = _predict_segment(mu, Sigma, us[i:j], dts[i:j], alpha)
-            seg_mu[:, 2] = wrap_angle(seg_mu[:, 2])
+            seg_mu[:, 2] = _wrap(seg_mu[:, 2])
             mus[i:j], Sigmas[i:j] = seg_mu, seg_Sigma
             for k in range(i, j):
                 cs[k] = np.zeros(0, dtype=int)

@@ -42,6 +42,7 @@ Table 5.1) without its division by zero on straight lines, and with the sign of
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -94,8 +95,16 @@ def _noise_variance(alpha_a, alpha_b, m_a, m_b, noise: str, alpha_c=None, m_c=No
     return std**2
 
 
+def _trig(a):
+    """``(cos, sin)`` for ``a``: :mod:`math`'s for a Python ``float`` (the filters' scalar
+    path, where a numpy call on one number costs more than the arithmetic), numpy's else."""
+    return (math.cos, math.sin) if type(a) is float else (np.cos, np.sin)
+
+
 def _sinc(h):
-    """``sin(h) / h``, exactly 1 at ``h = 0``."""
+    """``sin(h) / h``, exactly 1 at ``h = 0`` (a ``float`` for a Python ``float``)."""
+    if type(h) is float:
+        return math.sin(h) / h if h != 0.0 else 1.0
     h = np.asarray(h, dtype=float)
     return np.divide(np.sin(h), h, out=np.ones_like(h), where=h != 0)
 
@@ -108,13 +117,14 @@ def _arc(x, y, th, v, w, dt, out=None):
     which is finite and exact at :math:`\omega = 0`. Writes into ``out`` (a
     pre-allocated ``(..., 3)`` array) if given, else returns the three components.
     """
-    half = np.multiply(w, 0.5 * dt)
+    half = w * (0.5 * dt)
     chord = _sinc(half)
     chord *= v
     chord *= dt
-    mid = np.add(th, half)
+    mid = th + half
     if out is None:
-        return x + chord * np.cos(mid), y + chord * np.sin(mid), mid + half
+        cos, sin = _trig(mid)
+        return x + chord * cos(mid), y + chord * sin(mid), mid + half
     np.multiply(chord, np.cos(mid), out=out[..., 0])
     out[..., 0] += x
     np.multiply(chord, np.sin(mid), out=out[..., 1])
@@ -219,12 +229,20 @@ def velocity_motion(x_prev, u_t, dt):
     u_t = check.vectors(u_t, "u_t", 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
     check.batch_shape(x_prev=x_prev.shape[:-1], u_t=u_t.shape[:-1])
+    x_t = _velocity_motion_core(x_prev, u_t, dt)
+    check.no_overflow(x_t, "the motion x_prev -> x_t", x_prev=x_prev, u_t=u_t, dt=dt)
+    return x_t
+
+
+def _velocity_motion_core(x_prev: np.ndarray, u_t: np.ndarray, dt: float) -> np.ndarray:
+    """:func:`velocity_motion` on validated float arrays, unchecked (the filters' inner loops).
+
+    Overflow gives ``inf``/``NaN`` silently; the caller checks the result.
+    """
     x, y, th = _unpack(x_prev)
     v, w = _unpack(u_t)
     with np.errstate(over="ignore", invalid="ignore"):
-        x_t = _stack(*_arc(x, y, th, v, w, dt))
-    check.no_overflow(x_t, "the motion x_prev -> x_t", x_prev=x_prev, u_t=u_t, dt=dt)
-    return x_t
+        return _stack(*_arc(x, y, th, v, w, dt))
 
 
 def _sinc_derivative(h):
@@ -234,13 +252,23 @@ def _sinc_derivative(h):
     h^9/3991680` (next term below :math:`10^{-18}` relative); elsewhere the closed form,
     which loses at most two digits there.
     """
+    if type(h) is float:
+        return _sinc_derivative_series(h) if abs(h) < 0.1 else _sinc_derivative_closed(h)
     h = np.asarray(h, dtype=float)
     small = np.abs(h) < 0.1
-    h2 = h * h
-    series = h * (-1 / 3 + h2 * (1 / 30 + h2 * (-1 / 840 + h2 * (1 / 45360 - h2 / 3991680))))
-    safe = np.where(small, 1.0, h)
-    closed = (safe * np.cos(safe) - np.sin(safe)) / (safe * safe)
+    series = _sinc_derivative_series(h)
+    closed = _sinc_derivative_closed(np.where(small, 1.0, h))
     return np.where(small, series, closed)
+
+
+def _sinc_derivative_series(h):
+    h2 = h * h
+    return h * (-1 / 3 + h2 * (1 / 30 + h2 * (-1 / 840 + h2 * (1 / 45360 - h2 / 3991680))))
+
+
+def _sinc_derivative_closed(h):
+    cos, sin = _trig(h)
+    return (h * cos(h) - sin(h)) / (h * h)
 
 
 def velocity_motion_jacobians(x_prev, u_t, dt):
@@ -283,26 +311,57 @@ def velocity_motion_jacobians(x_prev, u_t, dt):
     u_t = check.vectors(u_t, "u_t", 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
     batch = check.batch_shape(x_prev=x_prev.shape[:-1], u_t=u_t.shape[:-1])
-    th = _unpack(x_prev)[2]
-    v, w = _unpack(u_t)
-    with np.errstate(over="ignore", invalid="ignore"):
-        h = w * (0.5 * dt)
-        sinc, dsinc = _sinc(h), _sinc_derivative(h)
-        mid = th + h
-        c, s = np.cos(mid), np.sin(mid)
-        G = np.zeros((*batch, 3, 3))
-        G[..., 0, 0] = G[..., 1, 1] = G[..., 2, 2] = 1.0
-        G[..., 0, 2] = -v * dt * sinc * s
-        G[..., 1, 2] = v * dt * sinc * c
-        V = np.zeros((*batch, 3, 2))
-        V[..., 0, 0] = dt * sinc * c
-        V[..., 1, 0] = dt * sinc * s
-        V[..., 0, 1] = 0.5 * v * (dt * dt) * (dsinc * c - sinc * s)
-        V[..., 1, 1] = 0.5 * v * (dt * dt) * (dsinc * s + sinc * c)
-        V[..., 2, 1] = dt
+    G, V = _velocity_jacobians_core(x_prev, u_t, dt, batch)
     for name, value in (("G", G), ("V", V)):
         check.no_overflow(value, f"the Jacobian {name}", x_prev=x_prev, u_t=u_t, dt=dt)
     return G, V
+
+
+def _velocity_jacobians_core(x_prev: np.ndarray, u_t: np.ndarray, dt: float, batch=None):
+    """:func:`velocity_motion_jacobians` on validated float arrays, unchecked.
+
+    ``batch`` is the broadcast batch shape (computed here if not given). Overflow gives
+    ``inf``/``NaN`` silently; the caller checks the result.
+    """
+    if batch is None:
+        batch = np.broadcast_shapes(x_prev.shape[:-1], u_t.shape[:-1])
+    th = _unpack(x_prev)[2]
+    v, w = _unpack(u_t)
+    with np.errstate(over="ignore", invalid="ignore"):
+        g02, g12, v00, v10, v01, v11 = _velocity_jacobian_entries(th, v, w, dt)
+        G = np.zeros((*batch, 3, 3))
+        G[..., 0, 0] = G[..., 1, 1] = G[..., 2, 2] = 1.0
+        G[..., 0, 2] = g02
+        G[..., 1, 2] = g12
+        V = np.zeros((*batch, 3, 2))
+        V[..., 0, 0] = v00
+        V[..., 1, 0] = v10
+        V[..., 0, 1] = v01
+        V[..., 1, 1] = v11
+        V[..., 2, 1] = dt
+    return G, V
+
+
+def _velocity_jacobian_entries(th, v, w, dt):
+    r"""The entries :math:`G_{13}, G_{23}, V_{11}, V_{21}, V_{12}, V_{22}` of
+    :func:`velocity_motion_jacobians` (the others are 0, 1 or :math:`\Delta t`).
+
+    Floats or arrays, unchecked: the one place of these formulas, used by the public
+    function (arrays) and by the EKF's scalar step (floats).
+    """
+    h = w * (0.5 * dt)
+    sinc, dsinc = _sinc(h), _sinc_derivative(h)
+    mid = th + h
+    cos, sin = _trig(mid)
+    c, s = cos(mid), sin(mid)
+    return (
+        -v * dt * sinc * s,
+        v * dt * sinc * c,
+        dt * sinc * c,
+        dt * sinc * s,
+        0.5 * v * (dt * dt) * (dsinc * c - sinc * s),
+        0.5 * v * (dt * dt) * (dsinc * s + sinc * c),
+    )
 
 
 def _invert_velocity(x_t, x_prev, dt):
