@@ -82,16 +82,42 @@ def _covariance(Sigma, name: str = "Sigma") -> np.ndarray:
     S = check.finite(Sigma, name)
     if S.shape != (3, 3):
         raise ValueError(f"{name} must have shape (3, 3), got {S.shape}")
-    # np.allclose(S, S.T, rtol=1e-9, atol=1e-12), spelled out (a third of the cost).
-    if not np.all(np.abs(S - S.T) <= 1e-12 + 1e-9 * np.abs(S.T)):
-        raise ValueError(f"{name} must be symmetric")
+    # np.allclose(S, S.T, rtol=1e-9, atol=1e-12), on the three pairs (floats: faster).
+    a = S.tolist()
+    for i, j in ((0, 1), (0, 2), (1, 2)):
+        if not abs(a[i][j] - a[j][i]) <= 1e-12 + 1e-9 * abs(a[j][i]):
+            raise ValueError(f"{name} must be symmetric")
     # Singular but positive semi-definite is legal (Σ = 0 is a known pose).
     _psd(S, name)
     return S
 
 
+def _chol3(S: np.ndarray):
+    """Lower Cholesky factor of a symmetric 3×3 ``S`` in scalar arithmetic, or ``None``.
+
+    The Cholesky–Banachiewicz recurrence (LAPACK's ``potrf`` criterion: every pivot must
+    be > 0); a numpy/LAPACK call on a 3×3 matrix costs ten times the arithmetic.
+    """
+    (a00, _, _), (a10, a11, _), (a20, a21, a22) = S.tolist()
+    if not a00 > 0.0:
+        return None
+    l00 = math.sqrt(a00)
+    l10, l20 = a10 / l00, a20 / l00
+    d1 = a11 - l10 * l10
+    if not d1 > 0.0:
+        return None
+    l11 = math.sqrt(d1)
+    l21 = (a21 - l20 * l10) / l11
+    d2 = a22 - l20 * l20 - l21 * l21
+    if not d2 > 0.0:
+        return None
+    return [[l00, 0.0, 0.0], [l10, l11, 0.0], [l20, l21, math.sqrt(d2)]]
+
+
 def _psd(S: np.ndarray, name: str) -> None:
     """Raise ``ValueError`` unless the symmetric ``S`` is positive semi-definite."""
+    if S.shape == (3, 3) and _chol3(S) is not None:
+        return
     try:
         np.linalg.cholesky(S)
     except np.linalg.LinAlgError:
@@ -105,6 +131,10 @@ def _psd(S: np.ndarray, name: str) -> None:
 def _sqrt_psd(S: np.ndarray) -> np.ndarray:
     """A square root ``R`` with ``R @ R.T == S``: the lower Cholesky factor if ``S`` is
     positive definite, else the symmetric root (``S`` positive semi-definite)."""
+    if S.shape == (3, 3):
+        L = _chol3(S)
+        if L is not None:
+            return np.array(L)
     try:
         return np.linalg.cholesky(S)
     except np.linalg.LinAlgError:
@@ -157,7 +187,7 @@ def _features(z) -> np.ndarray:
         z = z[None, :]
     if z.ndim != 2 or z.shape[1] not in (2, 3):
         raise ValueError(f"z must have shape (K, 3) (r, phi, s) or (K, 2) (r, phi), got {z.shape}")
-    if np.any(z[:, 0] < 0):
+    if min(z[:, 0].tolist()) < 0:
         raise ValueError("z: ranges must be >= 0")
     return z
 
@@ -175,8 +205,9 @@ def _correspondences(c, k: int, n_landmarks: int) -> np.ndarray:
         raise ValueError(
             f"c must have shape ({k},), one landmark index per feature, got {arr.shape}"
         )
-    if np.any(arr < 0) or np.any(arr >= n_landmarks):
-        raise ValueError(f"c must index the map's {n_landmarks} landmarks, got {arr.tolist()}")
+    listed = arr.tolist()
+    if min(listed) < 0 or max(listed) >= n_landmarks:
+        raise ValueError(f"c must index the map's {n_landmarks} landmarks, got {listed}")
     return arr.astype(int)
 
 
@@ -189,7 +220,7 @@ def _sigmas(sigmas, count: int = 3) -> np.ndarray:
     if s.shape not in ((2,), (3,)) or s.shape[0] < count:
         need = "(sigma_r, sigma_phi, sigma_s)" if count == 3 else "(sigma_r, sigma_phi[, sigma_s])"
         raise ValueError(f"sigmas must hold {need}, got shape {s.shape}")
-    if np.any(s <= 0):
+    if min(s.tolist()) <= 0:
         raise ValueError(f"sigmas are standard deviations and must be > 0, got {s.tolist()}")
     return s
 
@@ -393,7 +424,7 @@ def _correct(mu_bar, Sigma_bar, nu, H, S):
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
     mu = mu.copy()
     mu[2] = _wrap(float(mu[2]))
-    if not np.all(np.isfinite(mu)) or not np.all(np.isfinite(Sigma)):
+    if not all(map(math.isfinite, mu.tolist() + Sigma.ravel().tolist())):
         raise ValueError("the filter produced a non-finite estimate; check the inputs' scales")
     return mu, Sigma
 
@@ -848,34 +879,60 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
     # Lines 2-6: augmented mean and the square root of the block-diagonal covariance
     # (block by block: M_t is zero for a robot at rest, which a Cholesky of the whole
     # matrix would reject; for a positive-definite Σ^a this is its Cholesky factor).
-    root = np.zeros((n, n))
-    root[:3, :3] = _sqrt_psd(Sigma)
-    diag = np.empty(n - 3)
-    diag[:2] = _motion_noise(alpha, u)
-    diag[2::2] = sigmas[0] ** 2
-    diag[3::2] = sigmas[1] ** 2
-    root[3:, 3:] = np.diag(np.sqrt(diag))
-    chi = np.zeros((2 * n + 1, n))
-    chi[:, :3] = mu
-    chi[1 : n + 1] += gamma * root.T
-    chi[n + 1 :] -= gamma * root.T
-
-    # Lines 7-9: motion of every sigma point with its own control noise.
-    xbar = _velocity_motion_core(chi[:, :3], u + chi[:, 3:5], dt)
-    mu_bar = wm @ xbar
-    mu_bar[2] = _angle_mean(xbar[:, 2], wm)
-    dx = xbar - mu_bar
-    dx[:, 2] = _wrap(dx[:, 2])
-    Sigma_bar = (wc[:, None] * dx).T @ dx
+    # The root is block-diagonal, so a sigma point along a measurement-noise axis has the
+    # pose and control of χ_0: only 1 + 2·5 distinct poses move (lines 7-9), evaluated on
+    # floats with the model code of probrob.motion (``_arc``); the 4K points along the
+    # measurement noise share χ_0's motion and weight, and are added to its weight.
+    R = _chol3(Sigma)
+    if R is None:
+        R = _sqrt_psd(Sigma).tolist()
+    x0, y0, th0 = mu.tolist()
+    v0, w0 = u.tolist()
+    m0, m1 = _motion_noise(alpha, u).tolist()
+    wi = float(wm[1])
+    center = _arc(x0, y0, th0, v0, w0, dt)
+    moved = []
+    for sign in (gamma, -gamma):
+        for j in range(3):
+            moved.append(
+                _arc(x0 + sign * R[0][j], y0 + sign * R[1][j], th0 + sign * R[2][j], v0, w0, dt)
+            )
+        moved.append(_arc(x0, y0, th0, v0 + sign * math.sqrt(m0), w0, dt))
+        moved.append(_arc(x0, y0, th0, v0, w0 + sign * math.sqrt(m1), dt))
+    shared = 4 * k * wi  # the measurement-noise points: χ_0's motion
+    wm0, wc0 = float(wm[0]) + shared, float(wc[0]) + shared
+    cx, cy, cth = center
+    mx = wm0 * cx + wi * math.fsum(p[0] for p in moved)
+    my = wm0 * cy + wi * math.fsum(p[1] for p in moved)
+    # The heading mean on the circle about χ_0 (as _angle_mean).
+    mth = cth + wi * math.fsum(_wrap(p[2] - cth) for p in moved)
+    dx = np.empty((2 * n + 1, 3))
+    dx[:] = (cx - mx, cy - my, _wrap(cth - mth))
+    rows = np.array([(p[0] - mx, p[1] - my, _wrap(p[2] - mth)) for p in moved])
+    dx[1:6] = rows[:5]
+    dx[n + 1 : n + 6] = rows[5:]
+    d0 = dx[0]
+    Sigma_bar = wc0 * np.outer(d0, d0) + wi * (rows.T @ rows)
     Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
+    mu_bar = np.array([mx, my, mth])
     _psd(Sigma_bar, "the predicted covariance (check ukf_alpha, beta, kappa)")
     if k == 0:
         mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
         return mu_t, Sigma_t, 0.0
+    xbar = np.empty((2 * n + 1, 3))
+    xbar[:] = center
+    xbar[1:6] = np.array(moved[:5])
+    xbar[n + 1 : n + 6] = np.array(moved[5:])
+    # The measurement-noise part of the sigma points: ±γ√(σ²) on axis 5 + j.
+    noise = np.zeros((2 * n + 1, 2 * k))
+    spread = gamma * np.sqrt(np.tile(sigmas[:2] ** 2, k))
+    idx = np.arange(2 * k)
+    noise[6 + idx, idx] = spread
+    noise[n + 6 + idx, idx] = -spread
 
     # Lines 10-13: predicted measurements of every sigma point, stacked over features.
     Z = _landmark_measurement_core(xbar[:, None, :], m[c][None, :, :2])  # (2n+1, K, 2)
-    Z += chi[:, 5:].reshape(2 * n + 1, k, 2)
+    Z += noise.reshape(2 * n + 1, k, 2)
     zhat = np.einsum("i,ikd->kd", wm, Z)
     ref = Z[0, :, 1]  # the bearing means on the circle (_angle_mean), all features at once
     zhat[:, 1] = ref + wm @ _wrap(Z[:, :, 1] - ref)

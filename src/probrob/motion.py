@@ -75,7 +75,10 @@ _DENSITIES = ("book", "pose", "xy")
 
 
 def _unpack(arr: np.ndarray) -> tuple[np.ndarray, ...]:
-    return tuple(np.moveaxis(arr, -1, 0))
+    """The components along the last axis (views; numpy scalars for a 1-D array)."""
+    if arr.ndim == 1:
+        return tuple(arr)
+    return tuple(arr[..., i] for i in range(arr.shape[-1]))
 
 
 def _stack(*components) -> np.ndarray:
