@@ -16,7 +16,8 @@ For every page it checks that
     within 16 ms and weighs at most 200 kB (``.ci/live_widgets_check.py``);
   * the page loads nothing from outside the local server (no external script, stylesheet, font,
     image) and throws no JavaScript error;
-and saves a screenshot to ``_build/screenshots/<page>.png``.
+and saves screenshots to ``_build/screenshots/<page>.png`` (a page taller than
+``--max-shot-height`` continues in ``<page>-2.png``, ...).
 
 Only the standard library is used: Chromium is driven through its DevTools protocol over a pipe
 (``--remote-debugging-pipe``; the driver is ``.ci/cdp.py``), the book is served by
@@ -341,23 +342,25 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         print(f"  {line}")
     failures += live_failures
 
-    # Screenshot of the whole page (up to --max-shot-height), after the players were used: the
-    # viewport is made as tall as the page, so the fixed sidebars are laid out as a reader sees.
+    # Screenshots of the whole page, after the players were used: the viewport is made as tall
+    # as the page (up to --max-shot-height), so the fixed sidebars are laid out as a reader sees;
+    # a taller page is scrolled and saved in further parts, <page>-2.png, <page>-3.png, ...
     height = min(info["height"], args.max_shot_height)
     p.send(
         "Emulation.setDeviceMetricsOverride",
         {"width": args.width, "height": height, "deviceScaleFactor": 1, "mobile": False},
     )
-    p.js("window.scrollTo(0, 0)")
-    time.sleep(0.5)
-    shot = p.send("Page.captureScreenshot", {"format": "png"}, timeout=120)
     shots.mkdir(parents=True, exist_ok=True)
-    out = shots / (Path(page).stem + ".png")
-    out.write_bytes(base64.b64decode(shot["data"]))
-    print(
-        f"  screenshot: {out.relative_to(ROOT) if out.is_relative_to(ROOT) else out} "
-        f"({args.width}x{height})"
-    )
+    for part, top in enumerate(range(0, info["height"], height)):
+        p.js(f"window.scrollTo(0, {top})")
+        time.sleep(0.5)
+        shot = p.send("Page.captureScreenshot", {"format": "png"}, timeout=120)
+        out = shots / (Path(page).stem + (f"-{part + 1}" if part else "") + ".png")
+        out.write_bytes(base64.b64decode(shot["data"]))
+        print(
+            f"  screenshot: {out.relative_to(ROOT) if out.is_relative_to(ROOT) else out} "
+            f"({args.width}x{height}, from y = {top})"
+        )
 
     # Network and JavaScript errors, from the events gathered during the whole visit
     with browser.cond:

@@ -55,14 +55,15 @@ def _outputs(cell):
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_every_exercise_starts_unsolved_and_has_a_collapsed_solution(path):
-    """Each solution cell (tag ``exercise-solution``) is collapsed (``hide-input``) and prints
+    """Each solution cell (tag ``exercise-solution``) is collapsed (``hide-cell`` or
+    ``hide-input``) and prints
     "<Exercise>: correct" (nbval re-runs it and compares); an earlier cell, the check of the
     reader's answer as shipped, prints "<Exercise>: not yet" (the book shows it unsolved)."""
     cells = [c for c in nbformat.read(path, as_version=4).cells if c.cell_type == "code"]
     for k, cell in enumerate(cells):
         if "exercise-solution" not in cell.metadata.get("tags", []):
             continue
-        assert "hide-input" in cell.metadata["tags"], cell.source
+        assert {"hide-cell", "hide-input"} & set(cell.metadata["tags"]), cell.source
         out = _outputs(cell)
         solved = [line.split(": correct")[0] for line in out.splitlines() if ": correct" in line]
         assert solved and "not yet" not in out, cell.source

@@ -9,9 +9,10 @@ The book's exercise pattern (every chapter copies it):
    it prints ``Exercise 3: correct`` or what is wrong, and never raises, so that nbval and
    the book build stay green while the exercise is unsolved (as shipped it prints
    ``Exercise 3: not yet — ...``);
-4. the **solution**: a code cell tagged ``hide-input`` and ``exercise-solution`` (collapsed
-   in the book) that computes the answer and calls the same check, which prints
-   ``correct``. nbval re-runs it, so the tests prove that every exercise is solvable
+4. the **solution**: a code cell tagged ``exercise-solution`` and ``hide-cell`` (code and
+   output collapsed in the book, so the printed answer is hidden too; ``hide-input``
+   collapses only the code) that computes the answer and calls the same check, which
+   prints ``correct``. nbval re-runs it, so the tests prove that every exercise is solvable
    (``tests/test_exercises.py`` also checks that every solution prints "correct", is
    collapsed, and follows a check that prints "not yet" for the same exercise).
 

@@ -365,9 +365,15 @@ def _velocity_log_jacobian(v_hat, half, dt, power: int = 4):
     :math:`\Delta t` (the ``"xy"`` density). :math:`|\hat\omega\Delta t / 2| \le \pi/2`,
     so the sinc is at least :math:`2/\pi`.
     """
+    core = np.square(_sinc(half))  # in [4/π², 1]
+    core *= np.abs(v_hat)
     with np.errstate(divide="ignore"):
-        out = np.log(np.abs(v_hat))
-    out += 2.0 * np.log(_sinc(half)) + (np.log(0.5) + power * np.log(dt))
+        out = np.log(core)
+    if np.min(core, initial=1.0) == 0:  # v̂ = 0, or |v̂| sinc² below the smallest double
+        with np.errstate(divide="ignore"):
+            exact = np.log(np.abs(v_hat)) + 2.0 * np.log(_sinc(half))
+        out = np.where(core == 0, exact, out)
+    out += np.log(0.5) + power * np.log(dt)
     return out
 
 
@@ -575,18 +581,19 @@ def sample_motion_model_velocity(
     rng = check.rng(rng)
 
     v, w, var_v, var_w, var_g = _velocity_controls(alpha, u_t, noise)
+
     # The variances broadcast to ``size`` inside the sampler (numpy's convention), so a
     # single command costs one scalar, not an array of a million equal variances.
-    draws = [
-        check.sample_output(sample(var, size=shape, rng=rng), "sample", shape)
-        for var in (var_v, var_w, var_g)
-    ]
-    out = np.empty((*shape, 3))
+    def draw(var):
+        return check.sample_output(sample(var, size=shape, rng=rng), "sample", shape)
+
+    # One draw at a time, each used at once: no more million-element arrays alive than needed.
     with np.errstate(over="ignore", invalid="ignore"):
-        v_hat = v + draws[0]
-        w_hat = w + draws[1]
+        v_hat = v + draw(var_v)
+        w_hat = w + draw(var_w)
+        gamma_hat = draw(var_g)
+        out = np.empty((*shape, 3))
         _arc(*_unpack(x_prev), v_hat, w_hat, dt, out=out)
-        gamma_hat = draws[2]
         if _returns_fresh(sample) and gamma_hat.shape == shape and gamma_hat.base is None:
             gamma_hat *= dt  # our own sampler's fresh array: scale it in place
         else:  # never modify what a user's callable returned
@@ -886,14 +893,15 @@ def sample_motion_model_odometry(
 
     rot1, trans, rot2 = _odometry_deltas_of(u_t)
     variances = _odometry_variances(alpha, rot1, trans, rot2, noise, u_t=u_t)
-    draws = [
-        check.sample_output(sample(var, size=shape, rng=rng), "sample", shape) for var in variances
-    ]
-    out = np.empty((*shape, 3))
+
+    def draw(var):
+        return check.sample_output(sample(var, size=shape, rng=rng), "sample", shape)
+
     with np.errstate(over="ignore", invalid="ignore"):
-        rot1_hat = rot1 - draws[0]
-        trans_hat = trans - draws[1]
-        rot2_hat = rot2 - draws[2]
+        rot1_hat = rot1 - draw(variances[0])
+        trans_hat = trans - draw(variances[1])
+        rot2_hat = rot2 - draw(variances[2])
+        out = np.empty((*shape, 3))
         out[..., 0], out[..., 1], out[..., 2] = _apply_deltas(
             *_unpack(x_prev), rot1_hat, trans_hat, rot2_hat
         )
