@@ -129,6 +129,7 @@ bench: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_motion.py
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_sensors.py
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_filters.py
+	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_kinematics.py
 
 # ---- cleaning ----------------------------------------------------------------------------
 clean:

@@ -15,7 +15,7 @@ printed :math:`v/\omega` formulas with :mod:`math` (a straight line when
 :math:`\omega = 0`, which the printed formulas cannot take), the Jacobians, the
 matrices as small numpy arrays, ``np.linalg.inv`` for :math:`S^{-1}`, and for the UKF a
 Python loop over the sigma points calling scalar :math:`g` and :math:`h`. It already
-carries the errata's corrections (K1–K6) so that it computes the same numbers: before
+carries the errata's corrections (F1–F6) so that it computes the same numbers: before
 timing, both are run on the same input and must agree to 1e-8.
 
 Timing: :func:`time.perf_counter`, one warm-up, the minimum of several repeats, garbage
@@ -63,7 +63,7 @@ def naive_g(x, y, th, v, w, dt):
 
 
 def naive_ekf_step(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
-    """Table 7.2, one step, line by line (with the errata K1-K5 applied)."""
+    """Table 7.2, one step, line by line (with the errata F1-F5 applied)."""
     theta = mu[2]
     v, w = u
     if w == 0.0:

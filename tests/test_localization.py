@@ -101,7 +101,7 @@ def _deck_H(x, landmark):
 
 
 def test_deck_measurement_jacobian_fails_finite_differences():
-    """Errata K2: the deck divides H11 by q instead of √q and H22 by √q instead of q."""
+    """Errata F2: the deck divides H11 by q instead of √q and H22 by √q instead of q."""
     x, landmark = MU, MAP[0]
     H = landmark_measurement_jacobian(x, landmark)
     J = _fd_measurement(x, landmark)
@@ -116,7 +116,7 @@ def test_deck_measurement_jacobian_fails_finite_differences():
 
 
 def test_deck_predicted_signature_is_not_the_landmark_signature():
-    """Errata K3: the deck's third component of ẑ is (m_x - μ_x)/√q, not m_s."""
+    """Errata F3: the deck's third component of ẑ is (m_x - μ_x)/√q, not m_s."""
     x, landmark = MU, MAP[3]
     dx, dy = landmark[0] - x[0], landmark[1] - x[1]
     deck_s = dx / math.hypot(dx, dy)
@@ -140,7 +140,7 @@ def _deck_V(x, u, dt):
 
 
 def test_deck_V_has_a_sign_error():
-    """Errata K1: ∂x'/∂v is (-sin θ + sin(θ + ωΔt))/ω; the deck prints -(sin θ + sin(...))/ω."""
+    """Errata F1: ∂x'/∂v is (-sin θ + sin(θ + ωΔt))/ω; the deck prints -(sin θ + sin(...))/ω."""
     J = _fd_jacobian(lambda uu: velocity_motion(MU, uu, DT), U)
     deck = _deck_V(MU, U, DT)
     assert abs(deck[0, 0] - J[0, 0]) > 0.5
@@ -341,7 +341,7 @@ def test_bearings_straddling_pi_behind_the_robot(method):
 
 
 def test_unwrapped_bearing_innovation_of_the_deck_throws_the_pose_away():
-    """Errata K4: with the heading near π a bearing innovation of ~2π must be wrapped."""
+    """Errata F4: with the heading near π a bearing innovation of ~2π must be wrapped."""
     x = np.array([0.0, 0.0, 0.0])
     landmark = np.array([[-5.0, 0.1, 0.0]])  # behind the robot: bearing π - 0.02
     zhat = landmark_measurement(x, landmark[0])
