@@ -256,6 +256,7 @@ def _ekf_predict_floats(mu, Sigma, u, dt, alpha):
     """
     x, y, th = mu.tolist()
     v, w = u.tolist()
+    dt = float(dt)  # a Python float: the scalar path of the model code
     a1, a2, a3, a4 = alpha.tolist()
     try:
         mu_bar = _arc(x, y, th, v, w, dt)
@@ -888,6 +889,7 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
         R = _sqrt_psd(Sigma).tolist()
     x0, y0, th0 = mu.tolist()
     v0, w0 = u.tolist()
+    dt = float(dt)  # a Python float: the scalar path of the model code
     m0, m1 = _motion_noise(alpha, u).tolist()
     wi = float(wm[1])
     center = _arc(x0, y0, th0, v0, w0, dt)
