@@ -15,7 +15,12 @@ r"""Gaussian filter localization of *Probabilistic Robotics*, chapter 7.
 All three use the noise-free velocity motion :math:`g` and its Jacobians from
 :mod:`probrob.motion` (exact at :math:`\omega = 0`) and the range–bearing–signature
 measurement function :math:`h` and its Jacobian from :mod:`probrob.sensors`, so each
-model exists once. Every bearing innovation, and every bearing and heading residual of
+model exists once. The public functions validate their input once and then call those
+modules' unchecked cores (the public model functions are the same cores behind their
+checks); Table 7.2's sequential correction and the UKF's sigma-point motion run on Python
+floats, which for 3×3 algebra is several times faster than numpy calls on tiny arrays
+(``benchmarks/bench_filters.py``; equal to the per-call public functions to 1e-12,
+``tests/test_localization_fastpath.py``). Every bearing innovation, and every bearing and heading residual of
 the UKF, is wrapped with :mod:`probrob.angles`; the returned mean heading is wrapped to
 :math:`[-\pi, \pi)`.
 
@@ -79,7 +84,7 @@ _LOG_2PI = math.log(2.0 * math.pi)
 
 def _covariance(Sigma, name: str = "Sigma") -> np.ndarray:
     """A finite, symmetric, positive-definite 3×3 covariance."""
-    S = check.finite(Sigma, name)
+    S = _finite(Sigma, name)
     if S.shape != (3, 3):
         raise ValueError(f"{name} must have shape (3, 3), got {S.shape}")
     # np.allclose(S, S.T, rtol=1e-9, atol=1e-12), on the three pairs (floats: faster).
@@ -156,22 +161,42 @@ def _cholesky(S: np.ndarray, name: str) -> np.ndarray:
     return L
 
 
+def _finite(value, name: str) -> np.ndarray:
+    """``check.finite`` with a fast accept for small arrays (a filter step's arguments).
+
+    Anything that is not plainly finite goes through ``check.finite`` itself, so the
+    errors and their messages are the canonical ones.
+    """
+    arr = check.as_float_array(value, name)
+    if arr.size <= 64 and all(map(math.isfinite, arr.ravel().tolist())):
+        return arr
+    return check.finite(arr, name)
+
+
+def _dt(dt) -> float:
+    if type(dt) is float and math.isfinite(dt) and dt > 0.0:
+        return dt
+    return check.positive_scalar(dt, "dt")
+
+
 def _pose(mu) -> np.ndarray:
-    mu = check.poses(mu, "mu")
+    mu = _finite(mu, "mu")
     if mu.shape != (3,):
+        check.poses(mu, "mu")
         raise ValueError(f"mu must have shape (3,), got {mu.shape}")
     return mu
 
 
 def _control(u) -> np.ndarray:
-    u = check.vectors(u, "u", 2, "v, omega")
+    u = _finite(u, "u")
     if u.shape != (2,):
+        check.vectors(u, "u", 2, "v, omega")
         raise ValueError(f"u must have shape (2,), got {u.shape}")
     return u
 
 
 def _landmark_map(m) -> np.ndarray:
-    m = check.finite(m, "m")
+    m = _finite(m, "m")
     if m.ndim != 2 or m.shape[1] != 3:
         raise ValueError(f"m must have shape (L, 3) (landmark x, y, s), got {m.shape}")
     if m.shape[0] == 0:
@@ -180,7 +205,7 @@ def _landmark_map(m) -> np.ndarray:
 
 
 def _features(z) -> np.ndarray:
-    z = check.finite(z, "z")
+    z = _finite(z, "z")
     if z.size == 0:
         return np.zeros((0, 3))
     if z.ndim == 1:
@@ -212,11 +237,14 @@ def _correspondences(c, k: int, n_landmarks: int) -> np.ndarray:
 
 
 def _alpha4(alpha) -> np.ndarray:
-    return check.alphas(alpha, "alpha", 4)
+    arr = _finite(alpha, "alpha")
+    if arr.shape == (4,) and min(arr.tolist()) >= 0.0:
+        return arr
+    return check.alphas(arr, "alpha", 4)
 
 
 def _sigmas(sigmas, count: int = 3) -> np.ndarray:
-    s = check.finite(sigmas, "sigmas")
+    s = _finite(sigmas, "sigmas")
     if s.shape not in ((2,), (3,)) or s.shape[0] < count:
         need = "(sigma_r, sigma_phi, sigma_s)" if count == 3 else "(sigma_r, sigma_phi[, sigma_s])"
         raise ValueError(f"sigmas must hold {need}, got shape {s.shape}")
@@ -558,7 +586,7 @@ def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sig
     m = _landmark_map(m)
     z = _features(z)
     c = _correspondences(c, z.shape[0], m.shape[0])
-    dt = check.positive_scalar(dt, "dt")
+    dt = _dt(dt)
     alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
 
     mu_t, Sigma_t, log_pz = _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas)
@@ -683,7 +711,7 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
     mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
     m = _landmark_map(m)
     z = _features(z)
-    dt = check.positive_scalar(dt, "dt")
+    dt = _dt(dt)
     alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
     threshold = _gate_threshold(gate, z.shape[1])
 
@@ -751,18 +779,6 @@ def ukf_weights(n: int, ukf_alpha: float = 1.0, beta: float = 2.0, kappa: float 
     wm[0] = lam / (n + lam)
     wc[0] = lam / (n + lam) + (1.0 - a * a + beta)
     return math.sqrt(n + lam), wm, wc
-
-
-def _angle_mean(angles: np.ndarray, wm: np.ndarray) -> float:
-    r"""Weighted mean of sigma-point angles on the circle.
-
-    :math:`\theta_0 + \sum_i w_i\, \mathrm{wrap}(\theta_i - \theta_0)` about the central
-    sigma point :math:`\theta_0`: the arithmetic weighted mean of the angles unwrapped
-    next to :math:`\theta_0`, which stays right across ±π and with a negative
-    :math:`w_0` (where a mean of unit vectors would not).
-    """
-    ref = angles[0]
-    return ref + float(wm @ _wrap(angles - ref))
 
 
 def ukf_localization(
@@ -847,7 +863,7 @@ def ukf_localization(
     m = _landmark_map(m)
     z = _features(z)
     c = _correspondences(c, z.shape[0], m.shape[0])
-    dt = check.positive_scalar(dt, "dt")
+    dt = _dt(dt)
     alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 2)
     params = _ukf_params(ukf_alpha, beta, kappa)
     mu_t, Sigma_t, logp = _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params)
@@ -906,7 +922,9 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
     cx, cy, cth = center
     mx = wm0 * cx + wi * math.fsum(p[0] for p in moved)
     my = wm0 * cy + wi * math.fsum(p[1] for p in moved)
-    # The heading mean on the circle about χ_0 (as _angle_mean).
+    # The heading mean on the circle: θ_0 + Σ_i w_i wrap(θ_i - θ_0) about the central point,
+    # the weighted mean of the headings unwrapped next to θ_0, right across ±π and with a
+    # negative w_0 (where a mean of unit vectors would not be).
     mth = cth + wi * math.fsum(_wrap(p[2] - cth) for p in moved)
     dx = np.empty((2 * n + 1, 3))
     dx[:] = (cx - mx, cy - my, _wrap(cth - mth))
@@ -936,7 +954,7 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
     Z = _landmark_measurement_core(xbar[:, None, :], m[c][None, :, :2])  # (2n+1, K, 2)
     Z += noise.reshape(2 * n + 1, k, 2)
     zhat = np.einsum("i,ikd->kd", wm, Z)
-    ref = Z[0, :, 1]  # the bearing means on the circle (_angle_mean), all features at once
+    ref = Z[0, :, 1]  # the bearing means on the circle (as the heading's), all features at once
     zhat[:, 1] = ref + wm @ _wrap(Z[:, :, 1] - ref)
     dz = _innovation(Z, zhat).reshape(2 * n + 1, 2 * k)
     S = (wc[:, None] * dz).T @ dz
@@ -1000,7 +1018,7 @@ def ukf_localization_ml(
     mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
     m = _landmark_map(m)
     z = _features(z)
-    dt = check.positive_scalar(dt, "dt")
+    dt = _dt(dt)
     alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 2)
     params = _ukf_params(ukf_alpha, beta, kappa)
     threshold = _gate_threshold(gate, 2)
