@@ -494,6 +494,7 @@ def beam_model_components(z, z_star, params, *, log=False):
         The four components along the last axis.
     """
     p = _check_params(params)
+    log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
     out = _log_components(z, z_star, p)
@@ -527,9 +528,9 @@ def _mixture(z, z_star, p: BeamModelParams, log):
     under = q == 0  # the hit term underflowed and nothing else is left: redo in logs
     if np.any(under):
         lc = _log_components(z[under], z_star[under], p)
-        with np.errstate(divide="ignore"):
-            lw = np.log(p.weights)
-        out[under] = _logsumexp(lc + lw, axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):  # 0-weight terms: inf + -inf
+            terms = np.where(p.weights > 0, lc + np.log(p.weights), -np.inf)
+        out[under] = _logsumexp(terms, axis=-1)
     return out
 
 
@@ -567,6 +568,7 @@ def beam_mixture(z, z_star, params, *, log=False):
     p : float or ndarray, shape broadcast(z, z_star)
     """
     p = _check_params(params)
+    log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
     return check.scalar_or_array(_mixture(z, z_star, p, log))
@@ -603,6 +605,8 @@ def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, metho
     """
     p = _check_params(params)
     z = _check_ranges(z, "z", p.max_range)
+    x = check.poses(x, "x")
+    log = check.flag(log, "log")
     angles = check.finite(beam_angles, "beam_angles")
     if z.ndim == 0 or angles.ndim != 1 or z.shape[-1] != angles.size:
         raise ValueError(
@@ -968,6 +972,7 @@ def likelihood_field_range_finder_model(
     if np.any(z < 0):
         raise ValueError("z must be non-negative ranges")
     x = check.poses(x, "x")
+    log = check.flag(log, "log")
     angles = check.finite(beam_angles, "beam_angles")
     if z.ndim == 0 or angles.ndim != 1 or z.shape[-1] != angles.size:
         raise ValueError(
