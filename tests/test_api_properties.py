@@ -1493,6 +1493,78 @@ EXTRA_INVALID = [
     ),
 ]
 
+# the modules that joined later: lengths that must agree, batches that must broadcast
+_FILTER = dict(mu=np.zeros(3), Sigma=np.eye(3) * 0.1, u=[1.0, 0.1], m=LANDMARKS, dt=1.0,
+               alpha=[0.01] * 4, sigmas=(0.1, 0.05, 0.1))  # fmt: skip
+EXTRA_INVALID += [
+    (
+        localization.ekf_localization_known_correspondences,
+        dict(_FILTER, z=np.ones((2, 3)), c=np.array([0, 1, 2])),
+        ("c",),
+        ValueError,
+    ),
+    (
+        localization.ukf_localization,
+        dict(_FILTER, z=np.ones((2, 3)), c=np.array([0])),
+        ("c",),
+        ValueError,
+    ),
+    (
+        sensors.landmark_model_known_correspondence,
+        dict(f=np.ones((5, 3)), c=np.zeros(4, int), x=np.zeros(3), m=LANDMARKS, sigmas=(1, 1, 1)),
+        ("f", "c"),
+        ValueError,
+    ),
+    (
+        sensors.beam_range_finder_model,
+        dict(
+            z=np.ones((5, 4)),
+            x=np.tile([2.0, 1.0, 0.0], (3, 1)),
+            grid=GRID_MAP,
+            beam_angles=BEAMS,
+            params=PARAMS,
+        ),
+        ("z", "x"),
+        ValueError,
+    ),
+    (
+        sensors.beam_range_finder_model,
+        dict(z=np.ones(3), x=[2.0, 1.0, 0.0], grid=GRID_MAP, beam_angles=BEAMS, params=PARAMS),
+        ("z", "beam_angles"),
+        ValueError,
+    ),
+    (
+        sensors.likelihood_field_range_finder_model,
+        dict(
+            z=np.ones((5, 4)),
+            x=np.tile([2.0, 1.0, 0.0], (3, 1)),
+            grid=GRID_MAP,
+            beam_angles=BEAMS,
+            params=PARAMS,
+        ),
+        ("z", "x"),
+        ValueError,
+    ),
+    (
+        maps.ray_cast,
+        dict(grid=GRID_MAP, poses=[6.0, 1.0, 0.0], beam_angles=BEAMS, max_range=6.0),
+        ("poses",),
+        ValueError,
+    ),
+    (
+        kinematics.dead_reckon,
+        dict(x0=np.zeros(3), ds=[1.0, 1.0], dtheta=[0.0]),
+        ("ds", "dtheta"),
+        ValueError,
+    ),
+    (
+        fitting.interpolate_poses,
+        dict(t=np.linspace(0, 1, 5), poses=np.zeros((4, 3)), t_out=[0.5]),
+        ("poses",),
+        ValueError,
+    ),
+]
+
 # --------------------------------------------------------------------------- the machinery
 
 

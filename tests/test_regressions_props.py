@@ -157,3 +157,14 @@ def test_filter_and_fit_errors_name_the_callers_arguments():
     # a zero command's point mass: the message named no argument
     with pytest.raises(ValueError, match=r"^x_t, u_t, x_prev: 1 of 3 pose pairs"):
         fitting.fit_velocity_alpha(x_t, u, x_prev, 1.0)
+
+
+def test_range_finder_batches_that_do_not_broadcast_are_named():
+    occ = np.zeros((4, 4), dtype=bool)
+    occ[0] = True
+    grid = maps.OccupancyGrid(occ, 1.0)
+    params = sensors.BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, 6.0)
+    z, x = np.ones((5, 1)), np.tile([2.0, 2.0, 0.0], (3, 1))
+    # was numpy's "operands could not be broadcast together with shapes (5,1) (3,1)"
+    for model in (sensors.beam_range_finder_model, sensors.likelihood_field_range_finder_model):
+        _raises(ValueError, ["z (5,)", "x (3,)"], model, z, x, grid, [0.0], params)

@@ -612,6 +612,7 @@ def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, metho
         raise ValueError(
             f"z must have shape (..., K) with K = len(beam_angles) = {angles.size}, got {z.shape}"
         )
+    check.batch_shape(z=z.shape[:-1], x=x.shape[:-1])
     z_star = ray_cast(grid, x, angles, p.max_range, method=method)
     lp = _mixture(z, z_star, p, log=True).sum(axis=-1)
     return check.scalar_or_array(lp if log else np.exp(lp))
@@ -978,6 +979,7 @@ def likelihood_field_range_finder_model(
         raise ValueError(
             f"z must have shape (..., K) with K = len(beam_angles) = {angles.size}, got {z.shape}"
         )
+    check.batch_shape(z=z.shape[:-1], x=x.shape[:-1])
     offset = check.finite(sensor_offset, "sensor_offset")
     if offset.shape not in ((2,), (angles.size, 2)):
         raise ValueError(f"sensor_offset must have shape (2,) or (K, 2), got {offset.shape}")
