@@ -168,3 +168,26 @@ def test_range_finder_batches_that_do_not_broadcast_are_named():
     # was numpy's "operands could not be broadcast together with shapes (5,1) (3,1)"
     for model in (sensors.beam_range_finder_model, sensors.likelihood_field_range_finder_model):
         _raises(ValueError, ["z (5,)", "x (3,)"], model, z, x, grid, [0.0], params)
+
+
+@pytest.mark.parametrize("method", ["hybrid", "dda", "march"])
+def test_ray_cast_with_a_subnormal_heading(method):
+    # θ = 2.2e-313: sin θ is subnormal and 1/sin θ overflowed (a RuntimeWarning); found by
+    # the thorough profile through beam_range_finder_model at a pose on the map's corner
+    occ = np.zeros((4, 6), dtype=bool)
+    occ[:, -1] = True
+    grid = maps.OccupancyGrid(occ, 0.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        z = maps.ray_cast(grid, [0.0, 0.0, 2.22507386e-313], [0.0, np.pi / 2], 6.0, method=method)
+        z_axis = maps.ray_cast(grid, [0.0, 0.0, 0.0], [0.0, np.pi / 2], 6.0, method=method)
+    np.testing.assert_allclose(z, z_axis, atol=1e-12)
+
+
+def test_beam_mixture_with_a_subnormal_expected_range():
+    # z* = 5e-324: the short component's 1/(1 - exp(-λ z*)) divided by zero (a RuntimeWarning)
+    params = sensors.BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, 6.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert sensors.beam_mixture(0.0, 5e-324, params) == np.inf  # as at z* = 0
+        assert np.isfinite(sensors.beam_mixture(1.0, 5e-324, params))

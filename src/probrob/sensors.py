@@ -517,7 +517,8 @@ def _mixture(z, z_star, p: BeamModelParams, log):
     if p.z_short > 0:
         positive = z_star > 0
         zs = np.where(positive, z_star, 1.0)
-        short = lam * np.exp(-lam * z) / -np.expm1(-lam * zs)
+        with np.errstate(divide="ignore", over="ignore"):  # z* subnormal: 1/z* is inf
+            short = lam * np.exp(-lam * z) / -np.expm1(-lam * zs)
         short = np.where(positive, short, np.where(z == 0, np.inf, 0.0))
         q += p.z_short * np.where(z <= z_star, short, 0.0)
     q += np.where(at_max, p.z_max, p.z_rand / zmax)
