@@ -498,7 +498,7 @@ def _fit(loglik, count, n_pairs, model, noise, density, alpha0, alpha_bounds):
     bad = np.flatnonzero(~np.isfinite(probe))
     if bad.size:
         raise ValueError(
-            f"{bad.size} of {n_pairs} pose pairs have a log density of "
+            f"x_t, u_t, x_prev: {bad.size} of {n_pairs} pose pairs have a log density of "
             f"{probe[bad[0]]} for every alpha > 0 (first at index {bad[0]}): the model puts "
             "a point mass there (e.g. a zero command) or the pair did not move; drop them"
         )

@@ -147,6 +147,9 @@ def _sqrt_psd(S: np.ndarray) -> np.ndarray:
         return U * np.sqrt(np.clip(w, 0.0, None))
 
 
+_S_NAME = "S (the innovation covariance, from Sigma and sigmas)"
+
+
 def _cholesky(S: np.ndarray, name: str) -> np.ndarray:
     """Lower Cholesky factor of ``S`` (..., n, n), or ``ValueError`` naming ``name``."""
     try:
@@ -179,11 +182,11 @@ def _dt(dt) -> float:
     return check.positive_scalar(dt, "dt")
 
 
-def _pose(mu) -> np.ndarray:
-    mu = _finite(mu, "mu")
+def _pose(mu, name: str = "mu") -> np.ndarray:
+    mu = _finite(mu, name)
     if mu.shape != (3,):
-        check.poses(mu, "mu")
-        raise ValueError(f"mu must have shape (3,), got {mu.shape}")
+        check.poses(mu, name)
+        raise ValueError(f"{name} must have shape (3,), got {mu.shape}")
     return mu
 
 
@@ -354,10 +357,18 @@ def ekf_predict_segment(mu, Sigma, u, dt, alpha):
     u = check.vectors(u, "u", 2, "v, omega")
     if u.ndim != 2:
         raise ValueError(f"u must have shape (n, 2), got {u.shape}")
-    dt = np.broadcast_to(check.finite(dt, "dt"), u.shape[:1])
+    dt = _step_lengths(dt, u.shape[0])
+    return _predict_segment(mu, Sigma, u, dt, _alpha4(alpha))
+
+
+def _step_lengths(dt, n: int) -> np.ndarray:
+    """``dt`` as ``n`` step lengths > 0 (one value or one per step)."""
+    dt = check.finite(dt, "dt")
+    if dt.shape not in ((), (n,)):
+        raise ValueError(f"dt must be a scalar or have shape ({n},), got shape {dt.shape}")
     if np.any(dt <= 0):
         raise ValueError("dt must be > 0")
-    return _predict_segment(mu, Sigma, u, dt, _alpha4(alpha))
+    return np.broadcast_to(dt, (n,))
 
 
 def _predict_segment(mu, Sigma, u, dt, alpha):
@@ -420,7 +431,7 @@ def _innovation(z: np.ndarray, zhat: np.ndarray) -> np.ndarray:
     return nu
 
 
-def _gaussian_terms(nu: np.ndarray, S: np.ndarray, name: str = "S"):
+def _gaussian_terms(nu: np.ndarray, S: np.ndarray, name: str = _S_NAME):
     """Mahalanobis distances² and log-densities of innovations ``nu`` (..., d) under S."""
     L = _cholesky(S, name)
     w = np.linalg.solve(L, nu[..., None])[..., 0]
@@ -477,12 +488,11 @@ def chi2_quantile(p: float, dof: int) -> float:
     q : float
         The value with :math:`P(\chi^2_{dof} \le q) = p`.
     """
+    p = check.as_float_array(p, "p")
+    if p.ndim != 0 or not 0.0 < p < 1.0:
+        raise ValueError(f"p must lie in (0, 1), got {check._short(p)}")
     p = float(p)
-    if not 0.0 < p < 1.0:
-        raise ValueError(f"p must lie in (0, 1), got {p!r}")
-    if int(dof) != dof or dof < 1:
-        raise ValueError(f"dof must be a positive integer, got {dof!r}")
-    dof = int(dof)
+    dof = check.count(dof, "dof", 1)
 
     def cdf(x: float) -> float:
         h = 0.5 * x
@@ -768,6 +778,7 @@ def ukf_weights(n: int, ukf_alpha: float = 1.0, beta: float = 2.0, kappa: float 
     gamma : float
     wm, wc : ndarray, shape (2n + 1,)
     """
+    n = check.count(n, "n", 1)
     a = check.positive_scalar(ukf_alpha, "ukf_alpha")
     beta = float(check.finite(beta, "beta"))
     kappa = float(check.finite(kappa, "kappa"))
@@ -963,7 +974,7 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
 
     # Lines 14-17.
     nu = _innovation(z[:, :2], zhat).reshape(2 * k)
-    L = _cholesky(S, "S")
+    L = _cholesky(S, _S_NAME)
     S_inv = np.linalg.inv(S)
     K = Pxz @ S_inv
     mu_t = mu_bar + K @ nu
@@ -1206,9 +1217,7 @@ def fit_motion_noise(u, dt, poses, *, window):
     if u.ndim != 2:
         raise ValueError(f"u must have shape (N, 2), got {u.shape}")
     n = u.shape[0]
-    dt = np.broadcast_to(check.finite(dt, "dt"), (n,))
-    if np.any(dt <= 0):
-        raise ValueError("dt must be > 0")
+    dt = _step_lengths(dt, n)
     poses = check.poses(poses, "poses")
     if poses.shape != (n + 1, 3):
         raise ValueError(f"poses must have shape ({n + 1}, 3), got {poses.shape}")
@@ -1267,7 +1276,10 @@ def covariance_ellipse(mu, Sigma, p=0.95, n=60):
     -------
     xy : ndarray, shape (n + 1, 2)
     """
-    mu = check.finite(mu, "mu")[:2]
+    mu = check.finite(mu, "mu")
+    if mu.shape not in ((2,), (3,)):
+        raise ValueError(f"mu must have shape (3,) or (2,), got {mu.shape}")
+    mu = mu[:2]
     S = check.finite(Sigma, "Sigma")
     if S.ndim != 2 or S.shape[0] != S.shape[1] or S.shape[0] not in (2, 3):
         raise ValueError(f"Sigma must have shape (3, 3) or (2, 2), got {S.shape}")
@@ -1276,7 +1288,7 @@ def covariance_ellipse(mu, Sigma, p=0.95, n=60):
     if w[0] < -1e-12 * max(1.0, w[-1]):
         raise ValueError("Sigma is not positive semi-definite")
     radius = math.sqrt(chi2_quantile(p, 2))
-    t = np.linspace(0.0, 2.0 * np.pi, int(n) + 1)
+    t = np.linspace(0.0, 2.0 * np.pi, check.count(n, "n", 1) + 1)
     circle = np.stack([np.cos(t), np.sin(t)], axis=-1)
     return mu + radius * (circle * np.sqrt(np.clip(w, 0.0, None))) @ U.T
 
@@ -1381,7 +1393,10 @@ def run_filter(
         The UKF's parameters (``"ukf"`` and ``"ukf_ml"``).
     """
     check.choice(method, "method", _METHODS)
-    mu, Sigma = _pose(mu0), _covariance(Sigma0, "Sigma0")
+    mu, Sigma = _pose(mu0, "mu0"), _covariance(Sigma0, "Sigma0")
+    signatures = check.flag(signatures, "signatures")
+    if not (hasattr(steps, "__len__") and hasattr(steps, "__iter__")):
+        raise ValueError(f"steps must be a sequence of steps, got {check._short(steps)}")
     m = _landmark_map(m)
     alpha = _alpha4(alpha)
     sigmas = _sigmas(sigmas, 3 if method.startswith("ekf") else 2)

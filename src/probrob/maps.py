@@ -356,6 +356,9 @@ def ray_cast(grid, poses, beam_angles, max_range, *, method="hybrid"):
     ca, sa = np.cos(angles), np.sin(angles)
     dx = (ct * ca - st * sa).ravel()
     dy = (st * ca + ct * sa).ravel()
+    # a subnormal component (|d| < 2.2e-308, e.g. θ = 1e-310) would overflow 1/d: it is 0
+    dx[np.abs(dx) < np.finfo(float).tiny] = 0.0
+    dy[np.abs(dy) < np.finfo(float).tiny] = 0.0
     if method == "march":
         t = _march(grid, gx, gy, dx, dy, max_range / res)
     elif method == "hybrid":

@@ -534,6 +534,7 @@ def beam_model_components(z, z_star, params, *, log=False):
         The four components along the last axis.
     """
     p = _check_params(params)
+    log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
     out = _log_components(z, z_star, p)
@@ -556,7 +557,8 @@ def _mixture(z, z_star, p: BeamModelParams, log):
     if p.z_short > 0:
         positive = z_star > 0
         zs = np.where(positive, z_star, 1.0)
-        short = lam * np.exp(-lam * z) / -np.expm1(-lam * zs)
+        with np.errstate(divide="ignore", over="ignore"):  # z* subnormal: 1/z* is inf
+            short = lam * np.exp(-lam * z) / -np.expm1(-lam * zs)
         short = np.where(positive, short, np.where(z == 0, np.inf, 0.0))
         q += p.z_short * np.where(z <= z_star, short, 0.0)
     q += np.where(at_max, p.z_max, p.z_rand / zmax)
@@ -567,9 +569,9 @@ def _mixture(z, z_star, p: BeamModelParams, log):
     under = q == 0  # the hit term underflowed and nothing else is left: redo in logs
     if np.any(under):
         lc = _log_components(z[under], z_star[under], p)
-        with np.errstate(divide="ignore"):
-            lw = np.log(p.weights)
-        out[under] = _logsumexp(lc + lw, axis=-1)
+        with np.errstate(divide="ignore", invalid="ignore"):  # 0-weight terms: inf + -inf
+            terms = np.where(p.weights > 0, lc + np.log(p.weights), -np.inf)
+        out[under] = _logsumexp(terms, axis=-1)
     return out
 
 
@@ -607,6 +609,7 @@ def beam_mixture(z, z_star, params, *, log=False):
     p : float or ndarray, shape broadcast(z, z_star)
     """
     p = _check_params(params)
+    log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
     return check.scalar_or_array(_mixture(z, z_star, p, log))
@@ -643,11 +646,14 @@ def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, metho
     """
     p = _check_params(params)
     z = _check_ranges(z, "z", p.max_range)
+    x = check.poses(x, "x")
+    log = check.flag(log, "log")
     angles = check.finite(beam_angles, "beam_angles")
     if z.ndim == 0 or angles.ndim != 1 or z.shape[-1] != angles.size:
         raise ValueError(
             f"z must have shape (..., K) with K = len(beam_angles) = {angles.size}, got {z.shape}"
         )
+    check.batch_shape(z=z.shape[:-1], x=x.shape[:-1])
     z_star = ray_cast(grid, x, angles, p.max_range, method=method)
     lp = _mixture(z, z_star, p, log=True).sum(axis=-1)
     return check.scalar_or_array(lp if log else np.exp(lp))
@@ -1008,11 +1014,13 @@ def likelihood_field_range_finder_model(
     if np.any(z < 0):
         raise ValueError("z must be non-negative ranges")
     x = check.poses(x, "x")
+    log = check.flag(log, "log")
     angles = check.finite(beam_angles, "beam_angles")
     if z.ndim == 0 or angles.ndim != 1 or z.shape[-1] != angles.size:
         raise ValueError(
             f"z must have shape (..., K) with K = len(beam_angles) = {angles.size}, got {z.shape}"
         )
+    check.batch_shape(z=z.shape[:-1], x=x.shape[:-1])
     offset = check.finite(sensor_offset, "sensor_offset")
     if offset.shape not in ((2,), (angles.size, 2)):
         raise ValueError(f"sensor_offset must have shape (2,) or (K, 2), got {offset.shape}")

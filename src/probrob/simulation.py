@@ -113,9 +113,7 @@ def grid_landmarks(nx, ny, spacing, origin=(0.0, 0.0), signatures=None):
     -------
     m : ndarray, shape (nx·ny, 3)
     """
-    nx, ny = int(nx), int(ny)
-    if nx < 1 or ny < 1:
-        raise ValueError(f"nx and ny must be >= 1, got {nx}, {ny}")
+    nx, ny = check.count(nx, "nx", 1), check.count(ny, "ny", 1)
     sp = np.broadcast_to(check.finite(spacing, "spacing"), (2,))
     if np.any(sp <= 0):
         raise ValueError(f"spacing must be > 0, got {spacing!r}")
@@ -145,13 +143,14 @@ def random_landmarks(n, bounds, *, min_distance=0.0, rng=None, signatures=None):
     -------
     m : ndarray, shape (n, 3)
     """
-    n = int(n)
-    if n < 1:
-        raise ValueError(f"n must be >= 1, got {n}")
+    n = check.count(n, "n", 1)
     xmin, xmax, ymin, ymax = check.vectors(bounds, "bounds", 4, "xmin, xmax, ymin, ymax")
     if not (xmax > xmin and ymax > ymin):
         raise ValueError(f"bounds must satisfy xmin < xmax and ymin < ymax, got {bounds!r}")
-    rng = np.random.default_rng(rng)
+    min_distance = float(check.finite(min_distance, "min_distance"))
+    if min_distance < 0:
+        raise ValueError(f"min_distance must be >= 0, got {min_distance!r}")
+    rng = check.rng(rng)
     pts = np.empty((0, 2))
     for _ in range(1000):
         need = n - len(pts)
@@ -166,17 +165,32 @@ def random_landmarks(n, bounds, *, min_distance=0.0, rng=None, signatures=None):
     return np.column_stack([pts, _signatures(signatures, n)])
 
 
+def _scalar(arr: np.ndarray, name: str) -> float:
+    if arr.ndim != 0:
+        raise ValueError(f"{name} must be a scalar, got shape {arr.shape}")
+    return float(arr)
+
+
 def loop_controls(T, dt, v=0.5, radius=4.0, *, wiggle=0.0, period=None):
     r"""Return ``(T, 2)`` commands :math:`(v, \omega)` that drive a circle, optionally wavy.
 
     :math:`\omega = v / \mathrm{radius} + \mathrm{wiggle}\cdot\sin(2\pi t / \mathrm{period})`.
     ``radius = inf`` drives straight (:math:`\omega = 0` exactly).
     """
-    T = int(T)
+    T = check.count(T, "T")
     dt = check.positive_scalar(dt, "dt")
+    v, wiggle = (
+        _scalar(check.finite(v, "v"), "v"),
+        _scalar(check.finite(wiggle, "wiggle"), "wiggle"),
+    )
+    radius = _scalar(check.as_float_array(radius, "radius"), "radius")
+    if np.isnan(radius) or radius == 0:
+        raise ValueError(f"radius must be a non-zero number (inf: straight), got {radius!r}")
+    if period is not None:
+        period = check.positive_scalar(period, "period")
     t = dt * np.arange(T)
     w = np.full(T, 0.0 if np.isinf(radius) else v / radius)
-    if wiggle:
+    if wiggle and T > 0:
         period = period if period is not None else T * dt / 4
         w = w + wiggle * np.sin(2 * np.pi * t / period)
     return np.column_stack([np.full(T, float(v)), w])
@@ -248,7 +262,7 @@ def simulate_run(
     fov = float(fov)
     if not 0 < fov <= np.pi:
         raise ValueError(f"fov must lie in (0, π], got {fov!r}")
-    rng = np.random.default_rng(rng)
+    rng = check.rng(rng)
 
     T = controls.shape[0]
     alpha6 = np.concatenate([alpha, [0.0, 0.0]])
