@@ -43,7 +43,7 @@ from pathlib import Path
 
 # The DevTools-pipe driver, shared with tests/test_live_widgets.py, and the live widgets' check
 # (this script's folder is on sys.path when it runs as a script).
-from cdp import Browser, CheckError, find_chromium, serve
+from cdp import Browser, CheckError, Tab, find_chromium, serve
 from live_widgets_check import check_live_widgets
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -181,23 +181,11 @@ JS_BUTTON_CENTER = r"""
 """
 
 
-class Page:
+class Page(Tab):
+    """A chapter page in the browser's first target (sending and page scripts from ``Tab``)."""
+
     def __init__(self, browser: Browser, session: str):
-        self.b = browser
-        self.s = session
-
-    def send(self, method, params=None, timeout=None):
-        return self.b.send(method, params, self.s, timeout)
-
-    def js(self, expr: str, timeout: float | None = None):
-        res = self.send(
-            "Runtime.evaluate",
-            {"expression": expr, "returnByValue": True, "awaitPromise": True},
-            timeout,
-        )
-        if "exceptionDetails" in res:
-            raise CheckError(f"page script failed: {res['exceptionDetails']}")
-        return res["result"].get("value")
+        super().__init__(browser, target=None, session=session)
 
     def click_button(self, player: int, title: str) -> None:
         pos = self.js(JS_BUTTON_CENTER % (player, json.dumps(title)))

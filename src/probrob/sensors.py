@@ -465,6 +465,19 @@ def _check_ranges(z, name, max_range):
     return np.minimum(z, max_range)
 
 
+def _scan_inputs(z, x, beam_angles, log):
+    """Check a scan's poses, beam angles and ``log`` flag against its (checked) ranges ``z``."""
+    x = check.poses(x, "x")
+    log = check.flag(log, "log")
+    angles = check.finite(beam_angles, "beam_angles")
+    if z.ndim == 0 or angles.ndim != 1 or z.shape[-1] != angles.size:
+        raise ValueError(
+            f"z must have shape (..., K) with K = len(beam_angles) = {angles.size}, got {z.shape}"
+        )
+    check.batch_shape(z=z.shape[:-1], x=x.shape[:-1])
+    return x, angles, log
+
+
 def _check_expected(z_star, max_range):
     z_star = check.finite(z_star, "z_star")
     if np.any((z_star < 0) | (z_star > max_range)):
@@ -646,14 +659,7 @@ def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, metho
     """
     p = _check_params(params)
     z = _check_ranges(z, "z", p.max_range)
-    x = check.poses(x, "x")
-    log = check.flag(log, "log")
-    angles = check.finite(beam_angles, "beam_angles")
-    if z.ndim == 0 or angles.ndim != 1 or z.shape[-1] != angles.size:
-        raise ValueError(
-            f"z must have shape (..., K) with K = len(beam_angles) = {angles.size}, got {z.shape}"
-        )
-    check.batch_shape(z=z.shape[:-1], x=x.shape[:-1])
+    x, angles, log = _scan_inputs(z, x, beam_angles, log)
     z_star = ray_cast(grid, x, angles, p.max_range, method=method)
     lp = _mixture(z, z_star, p, log=True).sum(axis=-1)
     return check.scalar_or_array(lp if log else np.exp(lp))
@@ -1013,14 +1019,7 @@ def likelihood_field_range_finder_model(
     z = check.finite(z, "z")
     if np.any(z < 0):
         raise ValueError("z must be non-negative ranges")
-    x = check.poses(x, "x")
-    log = check.flag(log, "log")
-    angles = check.finite(beam_angles, "beam_angles")
-    if z.ndim == 0 or angles.ndim != 1 or z.shape[-1] != angles.size:
-        raise ValueError(
-            f"z must have shape (..., K) with K = len(beam_angles) = {angles.size}, got {z.shape}"
-        )
-    check.batch_shape(z=z.shape[:-1], x=x.shape[:-1])
+    x, angles, log = _scan_inputs(z, x, beam_angles, log)
     offset = check.finite(sensor_offset, "sensor_offset")
     if offset.shape not in ((2,), (angles.size, 2)):
         raise ValueError(f"sensor_offset must have shape (2,) or (K, 2), got {offset.shape}")
