@@ -44,7 +44,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .angles import wrap_angle
+from .kinematics import _interpolate_track
 
 __all__ = [
     "MRCLAM",
@@ -529,14 +529,7 @@ class MRCLAM:
                 f"t must lie within the ground truth's span [{lo:.3f}, {hi:.3f}] s, got "
                 f"values in [{tq.min():.3f}, {tq.max():.3f}]"
             )
-        gt = self.ground_truth
-        flat = tq.ravel()
-        x = np.interp(flat, self.ground_truth_t, gt[:, 0])
-        y = np.interp(flat, self.ground_truth_t, gt[:, 1])
-        th = np.asarray(
-            wrap_angle(np.interp(flat, self.ground_truth_t, np.unwrap(gt[:, 2]))), float
-        )
-        return np.stack([x, y, th.reshape(flat.shape)], axis=-1).reshape(tq.shape + (3,))
+        return _interpolate_track(self.ground_truth_t, self.ground_truth, tq)
 
 
 def _loadtxt(ds: _Dataset, file: Path, columns: int) -> np.ndarray:

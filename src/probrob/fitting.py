@@ -36,8 +36,8 @@ import numpy as np
 from scipy.optimize import minimize
 
 from . import _validation as check
-from .angles import angle_diff, wrap_angle
-from .kinematics import arc_update, dead_reckon
+from .angles import angle_diff
+from .kinematics import _interpolate_track, arc_update, dead_reckon
 from .motion import motion_model_odometry, motion_model_velocity
 
 __all__ = [
@@ -117,15 +117,7 @@ def interpolate_poses(t, poses, t_out):
     t = _times(t, "t")
     poses = _rows(poses, "poses", t.size, 3, "x, y, theta")
     t_out = _within(t_out, t, "t_out", "the recording")
-    heading = np.unwrap(poses[:, 2])
-    return np.stack(
-        [
-            np.interp(t_out, t, poses[:, 0]),
-            np.interp(t_out, t, poses[:, 1]),
-            np.asarray(wrap_angle(np.interp(t_out, t, heading))),
-        ],
-        axis=-1,
-    )
+    return _interpolate_track(t, poses, t_out)
 
 
 def integrate_commands(t, u, x0, t_out=None):

@@ -49,6 +49,7 @@ import functools
 import numpy as np
 
 from . import _validation as check
+from .angles import wrap_angle
 from .motion import _arc, _sinc, velocity_motion_jacobians
 
 __all__ = [
@@ -66,6 +67,25 @@ __all__ = [
 _METHODS = ("arc", "euler", "midpoint")
 # The report's heading is clockwise: this flips it to the standard counter-clockwise one.
 _FLIP = np.array([1.0, 1.0, -1.0])
+
+
+def _interpolate_track(t, poses, t_out):
+    """Poses of a recorded track ``(t (M,), poses (M, 3))`` at times ``t_out`` (unchecked).
+
+    x and y linearly; the heading unwrapped (:func:`numpy.unwrap`), interpolated linearly
+    and wrapped back to [-π, π), so a turn across ±π between two samples takes the short
+    way. The one implementation behind :func:`probrob.fitting.interpolate_poses` and
+    :meth:`probrob.datasets.MRCLAM.ground_truth_at`, which check their inputs first.
+    """
+    heading = np.unwrap(poses[:, 2])
+    return np.stack(
+        [
+            np.interp(t_out, t, poses[:, 0]),
+            np.interp(t_out, t, poses[:, 1]),
+            np.asarray(wrap_angle(np.interp(t_out, t, heading)), dtype=float),
+        ],
+        axis=-1,
+    )
 
 
 def _quiet(function):
