@@ -294,18 +294,23 @@ def rng(value, name: str = "rng") -> np.random.Generator:
     )
 
 
+def _returned_array(value, name: str) -> np.ndarray:
+    """``value`` returned by the user's callable ``name`` as a float array, or an error naming it."""
+    try:
+        return as_float_array(value, f"the value returned by {name}")
+    except TypeError as exc:
+        raise TypeError(f"{name} must return real numbers: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"{name} must return real numbers: {exc}") from None
+
+
 def sample_output(value, name: str, shape: tuple[int, ...]) -> np.ndarray:
     """Check what a user's ``sample`` callable returned: real numbers broadcastable to ``shape``.
 
     Any real dtype is accepted and returned as ``float64`` (a copy only if it is not float64
     already). The caller must not modify the result in place unless it made the copy itself.
     """
-    try:
-        arr = as_float_array(value, f"the value returned by {name}")
-    except TypeError as exc:
-        raise TypeError(f"{name} must return real numbers: {exc}") from None
-    except ValueError as exc:
-        raise ValueError(f"{name} must return real numbers: {exc}") from None
+    arr = _returned_array(value, name)
     try:
         full = np.broadcast_shapes(arr.shape, shape)
     except ValueError:
@@ -367,12 +372,7 @@ def no_overflow(values, what: str, **arguments) -> None:
 
 def callable_result(value, name: str) -> np.ndarray:
     """Check an array returned by a user's callable (e.g. ``prob``): real, numeric, no NaN."""
-    try:
-        arr = as_float_array(value, f"the value returned by {name}")
-    except TypeError as exc:
-        raise TypeError(f"{name} must return real numbers: {exc}") from None
-    except ValueError as exc:
-        raise ValueError(f"{name} must return real numbers: {exc}") from None
+    arr = _returned_array(value, name)
     if np.isnan(arr).any():
         raise ValueError(f"{name} returned NaN")
     return arr
