@@ -62,6 +62,19 @@ def _slider(description, value, lo, hi, step, fmt=".3f", *, name=None):
     )
 
 
+def _explorer_start(alpha, count, x_prev, n_samples, rng):
+    """Check an explorer's start values; return its ``count`` α sliders, ``x_prev``, ``n_samples``."""
+    alpha = check.alphas(alpha, "alpha", count)
+    x_prev = check.single_pose(x_prev, "x_prev")
+    n_samples = check.count(n_samples, "n_samples", 0)
+    check.rng(rng)  # rejects a bad seed now, not at the first redraw inside the widget
+    controls = {
+        f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005, name=f"alpha[{k}]")
+        for k in range(count)
+    }
+    return controls, x_prev, n_samples
+
+
 def _common_controls(distribution, noise):
     import ipywidgets as w
 
@@ -124,14 +137,7 @@ def velocity_model_explorer(
     widget : ipywidgets.VBox
         Display it as the last expression of a cell.
     """
-    alpha = check.alphas(alpha, "alpha", 6)
-    x_prev = check.single_pose(x_prev, "x_prev")
-    n_samples = check.count(n_samples, "n_samples", 0)
-    check.rng(rng)  # rejects a bad seed now, not at the first redraw inside the widget
-    controls = {
-        f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005, name=f"alpha[{k}]")
-        for k in range(6)
-    }
+    controls, x_prev, n_samples = _explorer_start(alpha, 6, x_prev, n_samples, rng)
     controls |= {
         "v": _slider("v [m/s]", v, -2.0, 2.0, 0.05, ".2f", name="v"),
         "w": _slider("ω [rad/s]", w, -2.0, 2.0, 0.05, ".2f", name="w"),
@@ -183,14 +189,7 @@ def odometry_model_explorer(
     """
     from .motion import apply_odometry_deltas
 
-    alpha = check.alphas(alpha, "alpha", 4)
-    x_prev = check.single_pose(x_prev, "x_prev")
-    n_samples = check.count(n_samples, "n_samples", 0)
-    check.rng(rng)  # rejects a bad seed now, not at the first redraw inside the widget
-    controls = {
-        f"a{k + 1}": _slider(f"α{k + 1}", alpha[k], 0.0, 0.5, 0.005, name=f"alpha[{k}]")
-        for k in range(4)
-    }
+    controls, x_prev, n_samples = _explorer_start(alpha, 4, x_prev, n_samples, rng)
     controls |= {
         "rot1": _slider("δrot1 [rad]", rot1, -3.1, 3.1, 0.05, ".2f", name="rot1"),
         "trans": _slider("δtrans [m]", trans, 0.0, 3.0, 0.05, ".2f", name="trans"),
