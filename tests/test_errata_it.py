@@ -19,7 +19,7 @@ from probrob.motion import velocity_motion
 FLIP = np.array([1.0, 1.0, -1.0])  # the map M
 L = 0.4
 ERRATA = (Path(__file__).parent.parent / "book" / "errata.md").read_text(encoding="utf-8")
-SEED = (Path(__file__).parent.parent.parent / "shared" / "seeds" / "003_bdbc41154fb08229.txt")
+SEED = Path(__file__).parent.parent.parent / "shared" / "seeds" / "003_bdbc41154fb08229.txt"
 
 
 def _entry(tag):
@@ -58,7 +58,9 @@ def test_c1_f_is_the_standard_model_under_the_map_m():
 
 def test_c1_a_book_pose_facing_up_is_driven_down():
     facing_up = np.array([0.0, 0.0, np.pi / 2])
-    np.testing.assert_allclose(cir_state_function(facing_up, [1.0, 1.0], L)[:2], [0, -1], atol=1e-15)
+    np.testing.assert_allclose(
+        cir_state_function(facing_up, [1.0, 1.0], L)[:2], [0, -1], atol=1e-15
+    )
     np.testing.assert_allclose(arc_update(facing_up, 1.0, 0.0)[:2], [0, 1], atol=1e-15)
     assert "drives the robot 1 m to $-y$" in _entry("c1")
 
