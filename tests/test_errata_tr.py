@@ -165,3 +165,24 @@ def test_W2_the_slides_centre_form_misses_by_the_printed_amounts():
     assert np.all(np.isnan(slide_exterior(pose, 1.0, 0.0)))
     straight = pose[:2] + [np.cos(0.6), np.sin(0.6)]
     assert np.hypot(*(arc_update(pose, 1.0, 1e-15)[:2] - straight)) < 1e-15
+
+
+# ------------------------------------------------------------------ the page itself
+
+
+def test_every_test_a_TR_entry_names_exists():
+    """Each `file.py::test_name` (or `::test_name` after it) in an entry tagged TR exists."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).parent
+    page = (root.parent / "book" / "errata.md").read_text(encoding="utf-8")
+    entries = [e.split("\n## ")[0] for e in page.split("\n### ")[1:]]
+    entries = [e for e in entries if "TR" in e.splitlines()[0]]
+    assert len(entries) >= 14
+    for entry in entries:
+        current = None
+        for file, name in re.findall(r"`(test_\w+\.py)?::(\w+)", entry):
+            current = file or current
+            assert current, entry.splitlines()[0]
+            assert f"def {name}(" in (root / current).read_text(encoding="utf-8"), (current, name)
