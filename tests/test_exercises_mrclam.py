@@ -6,7 +6,9 @@ data set and no fit of the real run.
 """
 
 from functools import partial
+from pathlib import Path
 
+import nbformat
 import numpy as np
 import pytest
 
@@ -269,3 +271,24 @@ def test_odd_answers_are_reported_not_raised(answer):
         ("Exercise 4", _test_4()),
     ]:
         assert not_yet(name, answer, test)
+
+
+def test_exercise_1_prose_states_the_scenario_the_check_uses():
+    """The numbers of Exercise 1's task are those of :data:`EXERCISE_1` (typed in the prose,
+    as the question's inputs, so they must agree with the check)."""
+    path = Path(__file__).parent.parent / "notebooks" / "mrclam_motion_noise.ipynb"
+    text = next(
+        c.source
+        for c in nbformat.read(path, as_version=4).cells
+        if c.cell_type == "markdown" and "Table 5.1 at two end poses" in c.source
+    )
+    s = ch.EXERCISE_1
+
+    def pose(p):
+        return "(" + ", ".join(f"{c:g}" for c in p) + ")"
+
+    assert f"$x_{{t-1}} = {pose(s['x_prev'])}$" in text
+    assert f"$(v, \\omega) = ({s['u'][0]:g}\\ \\text{{m/s}}, {s['u'][1]:g})$" in text
+    assert f"$\\Delta t = {s['dt']:g}$ s" in text
+    assert f"$x_a = {pose(s['x_a'])}$" in text and f"$x_b = {pose(s['x_b'])}$" in text
+    assert f"heading\n   {s['x_b'][2]:g} rad further left" in text
