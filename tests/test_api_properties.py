@@ -1584,6 +1584,14 @@ API += [
         skip_valid=True,  # its record holds wall-clock times; tests/test_mcl.py runs it
     ),
     Api(
+        plotting.plot_occupancy_grid,
+        "plot",
+        grid=GRID,
+        unexplored=Arg(choices(True, False), True, BAD_FLAG),
+        examples=5,
+    ),
+    Api(plotting.plot_particles, "plot", particles=PARTICLES, examples=5),
+    Api(
         datasets.read_carmen_log,
         "map",
         path=Arg(

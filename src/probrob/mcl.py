@@ -205,8 +205,9 @@ def uniform_particles(grid, n, rng=None, *, free=None) -> np.ndarray:
         Number of particles (>= 1).
     rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
     free : array_like of bool, shape (H, W), optional
-        The cells to draw from (default: every cell that is not occupied). A map built from
-        scans may pass the cells that its scans saw free, to leave out unexplored space.
+        The cells to draw from (default: the grid's :attr:`~probrob.maps.OccupancyGrid.free`
+        cells; for a map built from scans, those its beams saw, so that no particle starts
+        in unexplored space).
 
     Returns
     -------
@@ -216,7 +217,7 @@ def uniform_particles(grid, n, rng=None, *, free=None) -> np.ndarray:
     n = check.count(n, "n", 1)
     gen = check.rng(rng)
     if free is None:
-        mask = ~grid.occupied
+        mask = grid.free
     else:
         mask = np.asarray(free)
         if mask.dtype != bool or mask.shape != grid.shape:
