@@ -205,11 +205,12 @@ def test_mcl_drops_particles_that_leave_the_map():
     assert out.shape == (100, 3) and ROOM.contains(out[:, :2]).all()
 
 
-def test_mcl_raises_when_every_particle_left_the_map():
+def test_mcl_keeps_the_moved_particles_when_every_weight_is_zero():
     poses, u = _path(1)
-    x = np.tile([-30.0, 3.0, 0.0], (10, 1))
-    with pytest.raises(ValueError, match="left the map"):
-        M.mcl(x, u[0], _scan(poses[1]), ROOM, ANGLES, ALPHA, PARAMS, rng=0)
+    x = np.tile([-30.0, 3.0, 0.0], (10, 1)) + np.arange(10)[:, None] * [0.0, 0.1, 0.0]
+    out = M.mcl(x, u[0], _scan(poses[1]), ROOM, ANGLES, [0, 0, 0, 0], PARAMS, rng=0)
+    moved = sample_motion_model_odometry(u[0], x, [0, 0, 0, 0])
+    np.testing.assert_allclose(out, moved)  # equal weights: each particle once, in order
 
 
 def test_odometry_frame_is_irrelevant():

@@ -125,13 +125,10 @@ def _weights(weights, name: str = "weights") -> np.ndarray:
 
 
 def _normalise_log(log_w: np.ndarray) -> np.ndarray:
-    """exp(log_w) / sum, shape (N,); raises if every particle has weight zero."""
+    """exp(log_w) / sum, shape (N,). When every weight is zero (log -inf) the scan says
+    nothing about the particles: equal weights, the prior kept (as amcl does)."""
     if not np.any(np.isfinite(log_w)):
-        raise ValueError(
-            "every particle has weight zero: each left the map, or the scan z has probability "
-            "zero at each of them under params (a mixture without z_rand); start again from "
-            "uniform_particles, or use augmented_mcl, which injects particles"
-        )
+        return np.full(log_w.shape, 1.0 / log_w.size)
     return np.exp(log_w - logsumexp(log_w))
 
 
@@ -185,6 +182,8 @@ def effective_sample_size(weights, *, log=False) -> float:
         lw = check.as_float_array(weights, "weights")
         if lw.ndim != 1 or lw.size == 0 or np.any(np.isnan(lw)) or np.any(lw == np.inf):
             raise ValueError("weights (log) must have shape (N,) with no NaN and no +inf")
+        if not np.isfinite(lw).any():
+            raise ValueError("weights are all zero (log -inf): N_eff is undefined")
         w = _normalise_log(lw)
     else:
         w = _weights(weights)
@@ -348,10 +347,12 @@ def mcl(
     particles : ndarray, shape (N, 3)
         :math:`\mathcal X_t`, equally weighted.
 
-    Raises
-    ------
-    ValueError
-        On bad input, and when every particle has left the map.
+    Notes
+    -----
+    When every particle has weight zero (each left the map, or the scan has probability
+    zero at each of them, as under a mixture without ``z_rand``), the weights carry no
+    information: the moved particles are kept with equal weights, as amcl does. A filter
+    in that state is lost; :func:`augmented_mcl` is the one that recovers.
     """
     x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
         particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
