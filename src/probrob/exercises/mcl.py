@@ -4,7 +4,7 @@ with the library and returns ``None`` when the answer is right, else what is wro
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import chi2, norm
+from scipy.stats import norm
 
 from ..mcl import kld_sample_size
 from ..motion import odometry_deltas
@@ -27,8 +27,6 @@ def exercise_1(answer) -> str | None:
         return "that is z = 0.99 (amcl's pf_z read as a probability): use the quantile z_{1-δ}"
     if got == want - 1 or (got != int(got) and abs(got - want) < 1):
         return "round up: the bound is a smallest number of particles"
-    if abs(got - chi2.ppf(0.99, 39) / (2 * 0.05)) < 2:
-        return "that is the exact chi-square quantile: use the formula (its approximation)"
     return "recompute (k-1)/(2ε) · {1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) z_{1-δ}}³"
 
 
