@@ -28,6 +28,7 @@ CHAPTER_MODULES = {
     "mrclam_motion_noise": "mrclam",
     "trabalho4_measurement_models": "trabalho4",
     "trabalho5_localization": "trabalho5",
+    "mcl_intel_lab": "mcl",
 }
 
 
