@@ -1589,6 +1589,16 @@ API += [
     ),
     Api(plotting.plot_particles, "plot", particles=PARTICLES, examples=5),
     Api(
+        mcl.occupied_bins,
+        "map",
+        particles=PARTICLES,
+        bin_size=Arg(
+            constant((0.5, 0.5, np.pi / 18)),
+            (0.5, 0.5, np.pi / 18),
+            [((0.5, 0.0, 0.1), ValueError), ((0.5, 0.5), ValueError), (None, ValueError)],
+        ),
+    ),
+    Api(
         datasets.read_carmen_log,
         "map",
         path=Arg(

@@ -75,7 +75,7 @@ def test_a_raw_log_round_trips(tmp_path, name):
         "ODOM 10.4 5.2 1.1 0 0 0 1.9 host 1.9",
         "TRUEPOS 1 2 3 4 5 6 2.0 host 2.0",
         _flaser(3, [1.5, 2.5, 3.5], (1, 0, 0), (10.5, 5.25, 1.12), 2.0),
-        _flaser(3, [1.5, 2.5, 3.5], (2, 0, 0), (11, 5.5, 1.2), 3.0),
+        _flaser(3, [1.5, 30.0, 3.5], (2, 0, 0), (11, 5.5, 1.2), 3.0),
     ]
     log = read_carmen_log(_write(tmp_path, lines, name))
     np.testing.assert_array_equal(log.t, [1.0, 2.0, 3.0])
@@ -84,7 +84,7 @@ def test_a_raw_log_round_trips(tmp_path, name):
     # step 0 ends at the last ODOM before scan 1; step 1 has none, so at scan 2's odometry pose
     np.testing.assert_array_equal(log.odometry[0], [[10, 5, 1], [10.4, 5.2, 1.1]])
     np.testing.assert_array_equal(log.odometry[1], [[10.5, 5.25, 1.12], [11, 5.5, 1.2]])
-    assert log.no_return.sum() == 1
+    assert log.no_return.sum() == 2  # the code 30 m, twice
 
 
 @pytest.mark.parametrize(
@@ -119,7 +119,7 @@ def test_a_malformed_line_is_named_with_what_was_expected(tmp_path, bad, message
 
 
 def test_read_carmen_log_errors(tmp_path):
-    with pytest.raises(ValueError, match="no FLASER"):
+    with pytest.raises(ValueError, match=r"no FLASER line .*ROBOTLASER1"):
         read_carmen_log(_write(tmp_path, ["ODOM 0 0 0 0 0 0 1 host 1"]))
     with pytest.raises(FileNotFoundError, match="no such file"):
         read_carmen_log(tmp_path / "missing.log")
@@ -132,3 +132,7 @@ def test_read_carmen_log_errors(tmp_path):
     good = _write(tmp_path, [_flaser(3, [1, 2, 3], (0, 0, 0), (0, 0, 0), 0.5)])
     with pytest.raises(ValueError, match="max_range"):
         read_carmen_log(good, max_range=-1.0)
+    # the largest reading occurs once: it is a reading, not a no-return code
+    with pytest.raises(ValueError, match="max_range: pass the scanner's no-return code"):
+        read_carmen_log(good)
+    assert read_carmen_log(good, max_range=80.0).no_return.sum() == 0

@@ -271,6 +271,51 @@ def test_augmented_mcl_injects_only_when_w_fast_below_w_slow():
     assert injected > 0 and abs(injected - expected) < 5 * math.sqrt(expected + 1)
 
 
+def test_augmented_mcl_injects_about_half_when_w_fast_is_half_of_w_slow():
+    poses, u = _path(1)
+    x0 = poses[0] + np.random.default_rng(1).normal(0, 0.05, (400, 3))
+    z = _scan(poses[1])
+    x_bar = sample_motion_model_odometry(u[0], x0, [0, 0, 0, 0])
+    w_avg = np.exp(M.measurement_log_weights(x_bar, z, ROOM, ANGLES, PARAMS)).mean()
+    # choose the inputs so that after the update w_fast / w_slow = 1/2 exactly
+    a_s, a_f = 0.01, 0.1
+    ws_new = 4.0 * w_avg
+    ws_old = (ws_new - a_s * w_avg) / (1 - a_s)
+    wf_old = (0.5 * ws_new - a_f * w_avg) / (1 - a_f)
+    counts = []
+    for seed in range(20):
+        out, ws, wf = M.augmented_mcl(
+            x0,
+            u[0],
+            z,
+            ROOM,
+            ANGLES,
+            [0, 0, 0, 0],
+            PARAMS,
+            ws_old,
+            wf_old,
+            alpha_slow=a_s,
+            alpha_fast=a_f,
+            rng=seed,
+        )
+        assert wf / ws == pytest.approx(0.5)
+        moved = np.isclose(out[:, None, :], x_bar[None, :, :], atol=1e-9).all(axis=2).any(axis=1)
+        counts.append(int((~moved).sum()))
+    mean = np.mean(counts)  # binomial(400, 1/2): mean 200, sd 10 per step, 2.2 over 20 steps
+    assert abs(mean - 200) < 10
+
+
+def test_augmented_mcl_starts_afresh_when_every_weight_is_zero():
+    poses, u = _path(1)
+    x0 = np.tile([-30.0, 3.0, 0.0], (300, 1))
+    out, ws, wf = M.augmented_mcl(
+        x0, u[0], _scan(poses[1]), ROOM, ANGLES, ALPHA, PARAMS, 0.0, 0.0, rng=0
+    )
+    assert ws == 0.0 and wf == 0.0
+    ij = ROOM.world_to_cell(out[:, :2])
+    assert ROOM.free[ij[:, 0], ij[:, 1]].all() and out[:, 0].std() > 1.0
+
+
 def test_augmented_mcl_running_averages_follow_table_8_3():
     poses, u = _path(1)
     x0 = np.tile(poses[0], (100, 1))
@@ -325,9 +370,14 @@ def test_kld_particle_count_follows_the_bound():
             n_min=50,
             n_max=20000,
         )
-        k = M._occupied_bins(x, bins)
+        k = M.occupied_bins(x, bins)
+        # counted independently of the library's bin labels
+        pose = np.column_stack([x[:, :2], wrap_angle(x[:, 2])])
+        assert k == len(np.unique(np.floor(pose / bins), axis=0))
         assert 50 <= len(x) <= 20000
         assert len(x) >= min(20000, M.kld_sample_size(k)) if k >= 2 else len(x) == 50
+        # and not far above it: the set stops growing once it meets its bound
+        assert len(x) < 3 * max(50, M.kld_sample_size(max(k, 2)))
 
 
 def test_kld_respects_n_max_and_checks_its_arguments():
@@ -342,6 +392,24 @@ def test_kld_respects_n_max_and_checks_its_arguments():
 
 
 # ---------------------------------------------------------------------- estimates and input
+def test_estimate_pose_is_not_fooled_by_a_mode_split_across_bin_corners():
+    rng = np.random.default_rng(3)
+    wide = np.c_[1.0 + rng.normal(0, 0.15, (600, 2)), np.zeros(600)]  # 60 %, on a corner
+    compact = np.c_[5.25 + rng.normal(0, 0.02, (400, 2)), np.zeros(400)]  # 40 %, in one bin
+    est = M.estimate_pose(np.vstack([wide, compact]), radius=0.5)
+    np.testing.assert_allclose(est.pose[:2], [1.0, 1.0], atol=0.03)
+    assert est.fraction == pytest.approx(0.6, abs=0.01)
+
+
+def test_occupied_bins_wraps_headings_and_checks_bin_size():
+    x = np.array(
+        [[0.1, 0.1, np.pi - 0.01], [0.1, 0.1, -np.pi + 0.01], [0.1, 0.1, 3 * np.pi - 0.01]]
+    )
+    assert M.occupied_bins(x) == 2  # π - 0.01 and 3π - 0.01 are one heading
+    with pytest.raises(ValueError, match="bin_size"):
+        M.occupied_bins(x, bin_size=(0.5, 0.5))
+
+
 def test_estimate_pose_picks_the_heavier_mode_of_a_bimodal_set():
     rng = np.random.default_rng(0)
     a = np.array([2.0, 2.0, 3.1]) + rng.normal(0, 0.05, (600, 3))

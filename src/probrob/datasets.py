@@ -727,7 +727,10 @@ def _parse_carmen(lines) -> dict:
                 raise _CarmenError(f"line {lineno}: PARAM needs a name and a value")
             params[f[1]] = f[2]
     if not poses:
-        raise _CarmenError("the log has no FLASER line (no laser scan)")
+        raise _CarmenError(
+            "the log has no FLASER line (no laser scan; ROBOTLASER1 and RAWLASER messages "
+            "are not read)"
+        )
     odom_arr = np.array(odom, dtype=float)
     # The odometry of step k: from the odometry pose of scan k to the last ODOM pose logged
     # before scan k + 1 (or, with no ODOM line in between, the odometry pose of scan k + 1).
@@ -894,7 +897,9 @@ def read_carmen_log(path, *, max_range=None) -> CarmenLog:
     path : str or os.PathLike
         The log file (plain text, or gzip-compressed if its name ends in ``.gz``).
     max_range : float, optional
-        The scanner's no-return code [m]. Default: the largest range in the log.
+        The scanner's no-return code [m]. Default: the largest range in the log, if it occurs
+        more than once (a code repeats; a genuine longest reading rarely does); otherwise the
+        argument is required.
 
     Returns
     -------
@@ -921,7 +926,13 @@ def read_carmen_log(path, *, max_range=None) -> CarmenLog:
     except _CarmenError as exc:
         raise ValueError(f"{file}: {exc}") from None
     if max_range is None:
-        max_range = float(parsed["ranges"].max())
+        ranges = parsed["ranges"]
+        max_range = float(ranges.max())
+        if np.count_nonzero(ranges == max_range) < 2:
+            raise ValueError(
+                f"max_range: pass the scanner's no-return code; the log's largest reading, "
+                f"{max_range!r} m, occurs once, so it is a reading, not a code"
+            )
     else:
         max_range = float(max_range)
         if not (np.isfinite(max_range) and max_range > 0):

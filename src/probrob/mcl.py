@@ -48,6 +48,7 @@ __all__ = [
     "low_variance_sampler",
     "mcl",
     "measurement_log_weights",
+    "occupied_bins",
     "run_mcl",
     "uniform_particles",
 ]
@@ -136,10 +137,10 @@ def _normalise_log(log_w: np.ndarray) -> np.ndarray:
 def low_variance_sampler(weights, size=None, rng=None) -> np.ndarray:
     r"""Return the indices drawn by the low-variance sampler (*Probabilistic Robotics*, Table 4.4).
 
-    One random number :math:`r \sim U(0, M^{-1})` and the :math:`M` equally spaced pointers
-    :math:`U = r + (m - 1) M^{-1}` (lines 3–5); pointer :math:`m` selects the first particle
-    :math:`i` whose cumulative weight :math:`c = \sum_{j \le i} w^{[j]}` reaches :math:`U`
-    (lines 6–9). Particle :math:`i` is drawn :math:`\lfloor M w^{[i]} \rfloor` or
+    One random number :math:`r \sim U(0, M^{-1})` (line 3) and the :math:`M` equally spaced
+    pointers :math:`U = r + (m - 1) M^{-1}` (line 7); pointer :math:`m` selects the first
+    particle :math:`i` whose cumulative weight :math:`c = \sum_{j \le i} w^{[j]}` reaches
+    :math:`U` (lines 4–5 and 8–11). Particle :math:`i` is drawn :math:`\lfloor M w^{[i]} \rfloor` or
     :math:`\lceil M w^{[i]} \rceil` times, and a particle of weight zero never.
 
     Parameters
@@ -159,10 +160,10 @@ def low_variance_sampler(weights, size=None, rng=None) -> np.ndarray:
     m = w.size if size is None else check.count(size, "size", 1)
     gen = check.rng(rng)
     r = gen.uniform(0.0, 1.0 / m)  # line 3
-    u = r + np.arange(m) / m  # line 5, for every m at once
-    c = np.cumsum(w)  # line 4 and 8, accumulated
+    u = r + np.arange(m) / m  # line 7, for every m at once
+    c = np.cumsum(w)  # lines 4 and 10, accumulated
     c[-1] = 1.0  # the last pointer is < 1: round-off must not push it past the end
-    return np.searchsorted(c, u, side="left")  # lines 6-9: the first i with c_i >= U
+    return np.searchsorted(c, u, side="left")  # lines 8-11: the first i with c_i >= U
 
 
 def effective_sample_size(weights, *, log=False) -> float:
@@ -384,12 +385,15 @@ def augmented_mcl(
     r"""One step of augmented MCL, with random particles for recovery (*Probabilistic Robotics*, Table 8.3).
 
     As :func:`mcl`, and the running averages of the mean measurement likelihood
-    :math:`w_{avg} = M^{-1}\sum_m w_t^{[m]}` (lines 5–8):
+    :math:`w_{avg} = M^{-1}\sum_m w_t^{[m]}` (line 9):
     :math:`w_{slow} \mathrel{+}= \alpha_{slow}(w_{avg} - w_{slow})`,
-    :math:`w_{fast} \mathrel{+}= \alpha_{fast}(w_{avg} - w_{fast})` (lines 10–11). Each new
+    :math:`w_{fast} \mathrel{+}= \alpha_{fast}(w_{avg} - w_{fast})` (lines 11–12). Each new
     particle is, with probability :math:`\max(0, 1 - w_{fast}/w_{slow})`, a pose drawn
-    uniformly over the free space, and otherwise drawn by weight (lines 13–16). The number of
+    uniformly over the free space, and otherwise drawn by weight (lines 14–18). The number of
     random particles is drawn once (binomial); the others come from the low-variance sampler.
+    When every particle has weight zero, the whole set is drawn anew uniformly (the book's
+    ratio :math:`w_{fast}/w_{slow}` is then undefined; a lost filter re-localizes). ROS amcl
+    also resets both averages to zero after each injection; this function follows the book.
 
     Parameters
     ----------
@@ -422,22 +426,22 @@ def augmented_mcl(
     if not a_slow < a_fast:
         raise ValueError(f"need alpha_slow < alpha_fast, got {a_slow!r} and {a_fast!r}")
     n = x.shape[0]
-    x_bar = _predict(x, u, alpha, gen)  # line 5
-    log_w = _log_weights(x_bar, z, grid, angles, p, sensor, exponent)  # line 6
+    x_bar = _predict(x, u, alpha, gen)  # line 6
+    log_w = _log_weights(x_bar, z, grid, angles, p, sensor, exponent)  # line 7
     w_avg = math.exp(logsumexp(log_w) - math.log(n)) if np.isfinite(log_w).any() else 0.0
     if not math.isfinite(w_avg):
         raise ValueError(
             "the mean measurement likelihood w_avg overflows float64 "
             "(too many beams on a linear scale: use fewer beams or exponent < 1)"
         )
-    w_slow = float(w_slow) + a_slow * (w_avg - float(w_slow))  # line 10
-    w_fast = float(w_fast) + a_fast * (w_avg - float(w_fast))  # line 11
-    p_random = max(0.0, 1.0 - w_fast / w_slow) if w_slow > 0 else 0.0  # line 13
+    w_slow = float(w_slow) + a_slow * (w_avg - float(w_slow))  # line 11
+    w_fast = float(w_fast) + a_fast * (w_avg - float(w_fast))  # line 12
+    p_random = max(0.0, 1.0 - w_fast / w_slow) if w_slow > 0 else 0.0  # line 14
     n_random = int(gen.binomial(n, p_random)) if p_random > 0 else 0
     if n_random == n or not np.isfinite(log_w).any():
         return uniform_particles(grid, n, gen, free=free), w_slow, w_fast
     w = _normalise_log(log_w)
-    drawn = x_bar[low_variance_sampler(w, size=n - n_random, rng=gen)]  # line 16
+    drawn = x_bar[low_variance_sampler(w, size=n - n_random, rng=gen)]  # lines 17-18
     if n_random:
         drawn = np.concatenate([drawn, uniform_particles(grid, n_random, gen, free=free)])
     return drawn, w_slow, w_fast
@@ -445,7 +449,7 @@ def augmented_mcl(
 
 # ---------------------------------------------------------------------- Table 8.4
 def kld_sample_size(k, epsilon=0.05, delta=0.01) -> int:
-    r"""Return the KLD bound on the number of particles (*Probabilistic Robotics*, Table 8.4, line 17).
+    r"""Return the KLD bound :math:`M_\chi` on the number of particles (*Probabilistic Robotics*, Table 8.4).
 
     .. math::
         M_\chi = \frac{k-1}{2\varepsilon}\left\{1 - \frac{2}{9(k-1)}
@@ -482,17 +486,35 @@ def kld_sample_size(k, epsilon=0.05, delta=0.01) -> int:
     return math.ceil(m)
 
 
-def _bin_keys(x: np.ndarray, bin_size: np.ndarray) -> np.ndarray:
-    """One int64 key per particle for its (x, y, θ) histogram bin."""
+def _bin_ids(x: np.ndarray, bin_size: np.ndarray) -> np.ndarray:
+    """One integer per particle, equal for the particles of the same (x, y, θ) histogram bin."""
     pose = np.column_stack([x[:, :2], wrap_angle(x[:, 2])])
-    b = np.floor(pose / bin_size).astype(np.int64)
-    b -= b.min(axis=0)
-    span = b.max(axis=0) + 1
-    return (b[:, 0] * span[1] + b[:, 1]) * span[2] + b[:, 2]
+    cells = np.floor(pose / bin_size).astype(np.int64)
+    return np.unique(cells, axis=0, return_inverse=True)[1].reshape(-1)
 
 
-def _occupied_bins(x: np.ndarray, bin_size: np.ndarray) -> int:
-    return int(np.unique(_bin_keys(x, bin_size)).size)
+def _bin_sizes(bin_size) -> np.ndarray:
+    bins = check.finite(bin_size, "bin_size")
+    if bins.shape != (3,) or np.any(bins <= 0):
+        raise ValueError(f"bin_size must be 3 positive sizes (x, y, θ), got {bin_size!r}")
+    return bins
+
+
+def occupied_bins(particles, bin_size=(0.5, 0.5, np.pi / 18)) -> int:
+    r"""Return :math:`k`, the number of histogram bins that a particle set occupies (Table 8.4).
+
+    Parameters
+    ----------
+    particles : array_like, shape (N, 3)
+    bin_size : array_like, shape (3,)
+        Bin sides in x (m), y (m) and θ (rad); θ is wrapped to :math:`[-\pi, \pi)` first.
+
+    Returns
+    -------
+    k : int
+    """
+    x = _particles(particles)
+    return int(_bin_ids(x, _bin_sizes(bin_size)).max() + 1)
 
 
 def kld_sampling_mcl(
@@ -517,13 +539,16 @@ def kld_sampling_mcl(
 
     Table 8.4 draws particles one at a time until their number :math:`M` reaches the bound
     :math:`M_\chi` of :func:`kld_sample_size` for the :math:`k` histogram bins they occupy.
-    Here the previous particles are moved and weighted once (lines 6–7), and the new set is a
-    single low-variance draw (Table 4.4) from them, grown until the bound holds: draw
-    :math:`M` particles, count their bins :math:`k`, and redraw with
-    :math:`M = M_\chi(k)` while :math:`M < M_\chi(k)` (:math:`k` only grows with :math:`M`,
-    so this ends, within ``n_min`` … ``n_max``). Each round costs :math:`O(N + M)` (plus the
-    sorts), against amcl's :math:`O(NM)` linear searches, and the resampling keeps the low
-    variance that amcl gives up.
+    Here the previous particles are moved and weighted once, and the new set is a single
+    low-variance draw (Table 4.4) from them, grown until the bound holds: draw :math:`M`
+    particles, count the bins :math:`k` they occupy, and draw again with
+    :math:`M = M_\chi(k)` while :math:`M < M_\chi(k)`. :math:`M` grows strictly from round to
+    round and is capped at ``n_max``, so the loop ends (:math:`k` itself need not grow with
+    :math:`M`: a larger draw can land in fewer bins). The moved particles' bins are found once;
+    a round costs a low-variance draw, :math:`O(N + M \log N)`, and a count of :math:`M` bin
+    labels, against amcl's :math:`O(NM)` linear searches of the cumulative weights. From a
+    spread-out set the rounds add up to a few times the final :math:`M` in draws. The
+    resampling keeps the low variance that amcl gives up.
 
     Parameters
     ----------
@@ -544,24 +569,22 @@ def kld_sampling_mcl(
     x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
         particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
     )
-    epsilon = check.positive_scalar(epsilon, "epsilon")
-    delta = check.in_range(delta, "delta", 0.0, 1.0)
-    bins = check.finite(bin_size, "bin_size")
-    if bins.shape != (3,) or np.any(bins <= 0):
-        raise ValueError(f"bin_size must be 3 positive sizes (x, y, θ), got {bin_size!r}")
+    kld_sample_size(2, epsilon, delta)  # checks epsilon and delta
+    bins = _bin_sizes(bin_size)
     n_min = check.count(n_min, "n_min", 1)
     n_max = check.count(n_max, "n_max", 1)
     if n_min > n_max:
         raise ValueError(f"need n_min <= n_max, got {n_min} and {n_max}")
     x_bar = _predict(x, u, alpha, gen)
     w = _normalise_log(_log_weights(x_bar, z, grid, angles, p, sensor, exponent))
+    bin_of = _bin_ids(x_bar, bins)  # a drawn particle is a copy: its bin is its source's
     m = n_min
     while True:
-        drawn = x_bar[low_variance_sampler(w, size=m, rng=gen)]
-        k = _occupied_bins(drawn, bins)
+        idx = low_variance_sampler(w, size=m, rng=gen)
+        k = int(np.count_nonzero(np.bincount(bin_of[idx])))
         target = n_min if k < 2 else min(n_max, max(n_min, kld_sample_size(k, epsilon, delta)))
         if m >= target:
-            return drawn
+            return x_bar[idx]
         m = target
 
 
@@ -579,10 +602,12 @@ def estimate_pose(particles, weights=None, *, radius=0.5) -> PoseEstimate:
     r"""Return the pose of the heaviest cluster of particles, right for a multimodal set.
 
     The mean of a multimodal particle set lies between its modes, often inside a wall. Here
-    the particles are binned in (x, y) at ``radius``; the heaviest bin seeds the cluster, which
-    holds every particle within ``2·radius`` of that bin's weighted mean, in x and y; the
-    estimate is the cluster's weighted mean (circular in θ). Compare amcl, which reports the
-    mean of its heaviest k-d-tree cluster.
+    the particles are binned in (x, y) at ``radius``; the block of 3 × 3 bins that holds the
+    most weight seeds the cluster (a block, so that a mode split by bin edges is not
+    outweighed by a smaller one that fits in one bin); the cluster holds every particle
+    within ``2·radius`` of the block's weighted mean, in x and y; the estimate is the
+    cluster's weighted mean (circular in θ). Compare amcl, which reports the mean of its
+    heaviest k-d-tree cluster.
 
     Parameters
     ----------
@@ -601,10 +626,23 @@ def estimate_pose(particles, weights=None, *, radius=0.5) -> PoseEstimate:
     if w.size != x.shape[0]:
         raise ValueError(f"weights must have shape ({x.shape[0]},), got {w.shape}")
     radius = check.positive_scalar(radius, "radius")
-    cells = np.floor(x[:, :2] / radius).astype(np.int64)
+    limit = 2.0**40  # bins far beyond any map: the clip keeps the integer codes exact
+    cells = np.clip(np.floor(x[:, :2] / radius), -limit, limit).astype(np.int64)
     keys, inverse = np.unique(cells, axis=0, return_inverse=True)
-    heaviest = np.bincount(inverse.reshape(-1), weights=w, minlength=len(keys)).argmax()
-    seed = inverse.reshape(-1) == heaviest
+    inverse = inverse.reshape(-1)
+    mass = np.bincount(inverse, weights=w, minlength=len(keys))
+    # one sorted integer code per occupied bin (np.unique sorts the rows lexicographically)
+    shifted = keys - keys.min(axis=0) + 1
+    span = int(shifted[:, 1].max()) + 2
+    code = shifted[:, 0] * span + shifted[:, 1]
+    block = np.zeros(len(keys))
+    for di in (-1, 0, 1):
+        for dj in (-1, 0, 1):
+            target = code + di * span + dj
+            pos = np.minimum(np.searchsorted(code, target), len(code) - 1)
+            block += np.where(code[pos] == target, mass[pos], 0.0)
+    seed_key = keys[int(np.argmax(block))]
+    seed = np.all(np.abs(cells - seed_key) <= 1, axis=1)
     centre = np.average(x[seed, :2], axis=0, weights=w[seed])
     near = np.all(np.abs(x[:, :2] - centre) <= 2.0 * radius, axis=1)
     wc = w[near]
