@@ -1,0 +1,140 @@
+"""Regression tests for issue 15 ("ray_cast must never hang, and the last silent wrong answers go").
+
+Each test failed (or hung) before its fix. Items 2, 4, 5, 8 and the filters' ``log`` flags
+(item 6) live in ``probrob.localization`` and are tested with it.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from probrob import maps, sensors
+
+PI = np.pi
+
+
+# ------------------------------------------------------------- item 1: ray_cast hangs
+# Beams along the axes, and a hair off them: cos(π/2) = 6e-17 is the direction's x
+# component of a beam "straight up", so a pose on a grid line runs along it.
+AXIS_ANGLES = [0.0, PI / 2, -PI / 2, PI, -PI, 1e-17, -1e-17, PI / 2 + 1e-16, np.nextafter(PI, 0)]
+STRIPES = np.arange(100).reshape(10, 10) % 10 == 0  # column 0 occupied: the issue's map
+
+
+@pytest.mark.parametrize("method", ["hybrid", "dda", "march"])
+def test_the_issue_example_returns(method, time_limit):
+    # hung for ever with the default method; "dda" returned 4.0
+    grid = maps.OccupancyGrid(STRIPES, 1.0)
+    with time_limit(20):
+        z = maps.ray_cast(grid, [5.0, 5.0, 0.0], [-PI], 4.0, method=method)
+    assert z[0] == 4.0
+
+
+def test_the_beam_model_on_the_issue_example_returns(time_limit):
+    grid = maps.OccupancyGrid(STRIPES, 1.0)
+    params = sensors.BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, 4.0)
+    with time_limit(20):
+        q = sensors.beam_range_finder_model([4.0], [5.0, 5.0, 0.0], grid, [-PI], params, log=True)
+    q_dda = sensors.beam_range_finder_model(
+        [4.0], [5.0, 5.0, 0.0], grid, [-PI], params, log=True, method="dda"
+    )
+    assert q == q_dda
+
+
+def test_a_pose_a_few_ulps_off_a_grid_line_follows_the_plain_traversal():
+    # x = 4.35 on a grid with origin 0.35 is 3.9999999999999996 cells: just left of the line
+    # x = 4, which the beam (θ = π/2 + 1e-17) crosses only after 8.7 cells. The hybrid
+    # traversal floored a jump's landing point onto the line and ran up the next column:
+    # 11.5 m (the obstacle at row 17) instead of 8.5 m (row 14).
+    occ = np.zeros((20, 10), dtype=bool)
+    occ[14, 3] = occ[17, 4] = True
+    grid = maps.OccupancyGrid(occ, 1.0, (0.35, 0.35))
+    for method in ("dda", "hybrid"):
+        assert maps.ray_cast(grid, [4.35, 5.85, PI / 2], [1e-17], 30.0, method=method)[0] == 8.5
+
+
+def test_a_heading_of_1e_307_on_a_large_grid_leaks_no_overflow():
+    # sin(1e-307) = 1e-307: the hybrid traversal's row * (1 / dy) overflowed (a RuntimeWarning)
+    occ = np.zeros((400, 400), dtype=bool)
+    occ[:, -1] = occ[-1, :] = True
+    grid = maps.OccupancyGrid(occ, 0.05)
+    poses = [[0.0, 0.0, 1e-307], [0.0, 0.0, -1e-307], [0.0, 19.5, 1e-306]]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        z = {m: maps.ray_cast(grid, poses, [0.0, PI / 2], 30.0, method=m) for m in maps._METHODS}
+    np.testing.assert_array_equal(z["hybrid"], z["dda"])
+    # θ = -1e-307 from the corner: the ray runs just below the map's edge, leaving it at once
+    assert z["dda"][1, 0] == 30.0 and z["dda"][0, 0] == pytest.approx(19.95)
+
+
+@st.composite
+def grid_aligned_case(draw):
+    """A random grid and poses on its grid lines and corners (and cell centres), θ and beams
+    along the axes or a hair off them."""
+    h, w = draw(st.integers(1, 12)), draw(st.integers(1, 12))
+    density = draw(st.sampled_from([0.0, 0.1, 0.3, 0.6]))
+    seed = draw(st.integers(0, 2**32 - 1))
+    occ = np.random.default_rng(seed).random((h, w)) < density
+    res = draw(st.sampled_from([1.0, 0.5, 0.25, 0.1, 0.05, 0.3]))
+    origin = draw(st.sampled_from([0.0, -1.0, 0.35, -7.3]))
+    half_cells = st.tuples(st.integers(0, 2 * w - 1), st.integers(0, 2 * h - 1))
+    cells = draw(st.lists(half_cells, min_size=1, max_size=8))
+    xy = origin + np.array(cells, dtype=float) * 0.5 * res
+    theta = draw(st.lists(st.sampled_from(AXIS_ANGLES), min_size=len(cells), max_size=len(cells)))
+    beams = draw(st.lists(st.sampled_from(AXIS_ANGLES), min_size=1, max_size=6))
+    max_range = draw(st.sampled_from([0.5, 3.0, 100.0]))
+    return maps.OccupancyGrid(occ, res, (origin, origin)), np.c_[xy, theta], beams, max_range
+
+
+@settings(max_examples=300, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(case=grid_aligned_case())
+def test_hybrid_equals_dda_on_grid_lines_and_corners(case, time_limit):
+    grid, poses, beams, max_range = case
+    inside = grid.contains(poses[:, :2])
+    poses = poses[inside]
+    if not poses.size:
+        return
+    t_max = max_range / grid.resolution
+    bounds = maps._step_bounds(grid.shape, t_max)
+    with time_limit(20):
+        z_dda, steps_dda = maps._cast(grid, poses, np.array(beams), max_range, "dda")
+        z_hyb, steps_hyb = maps._cast(grid, poses, np.array(beams), max_range, "hybrid")
+        _, steps_march = maps._cast(grid, poses, np.array(beams), max_range, "march")
+    np.testing.assert_allclose(z_hyb, z_dda, rtol=0, atol=1e-9)
+    for steps in (steps_dda, steps_hyb, steps_march):
+        for stage, n in steps.items():
+            assert n <= bounds[stage], (stage, n, bounds[stage])
+    # the beam model on top of each method: the same likelihoods
+    params = sensors.BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, max_range)
+    z = np.full((len(poses), len(beams)), 0.4 * max_range)
+    with time_limit(20):
+        q = {
+            m: sensors.beam_range_finder_model(z, poses, grid, beams, params, log=True, method=m)
+            for m in ("hybrid", "dda")
+        }
+    np.testing.assert_allclose(q["hybrid"], q["dda"], rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "method, stage", [("dda", "dda"), ("hybrid", "hybrid"), ("march", "march")]
+)
+def test_a_traversal_past_its_step_bound_raises_instead_of_looping(method, stage, monkeypatch):
+    # The bounds are the proof of termination: with a bound too small for the map, the loop
+    # stops with RuntimeError rather than running on.
+    occ = np.zeros((10, 40), dtype=bool)
+    occ[6, :] = True  # a wall along the beam: no jump is long enough, every cell is a step
+    grid = maps.OccupancyGrid(occ, 1.0)
+    real = maps._step_bounds
+
+    def tiny(shape, t_max):
+        bounds = real(shape, t_max)
+        bounds[stage] = 2
+        return bounds
+
+    monkeypatch.setattr(maps, "_step_bounds", tiny)
+    with pytest.raises(RuntimeError, match=f"{stage}.*bound of 2 steps"):
+        maps.ray_cast(grid, [0.5, 5.5, 0.0], [0.0], 39.0, method=method)
