@@ -138,3 +138,39 @@ def test_a_traversal_past_its_step_bound_raises_instead_of_looping(method, stage
     monkeypatch.setattr(maps, "_step_bounds", tiny)
     with pytest.raises(RuntimeError, match=f"{stage}.*bound of 2 steps"):
         maps.ray_cast(grid, [0.5, 5.5, 0.0], [0.0], 39.0, method=method)
+
+
+# ------------------------------------------------- item 3: a falsy check result is "not yet"
+@pytest.mark.parametrize(
+    "result",
+    [0, 0.0, np.array([False]), np.False_, np.array([True, False]), np.array([], bool), 1],
+    ids=["0", "0.0", "array-False", "numpy-False", "array-mixed", "empty-array", "1"],
+)
+def test_verdict_calls_a_falsy_or_odd_test_result_not_yet(result):
+    from probrob.exercises import verdict
+
+    line = verdict("E", 3.0, test=lambda a: result)
+    assert line.startswith("E: not yet — "), line
+
+
+def test_verdict_of_the_issue_example():
+    from probrob.exercises import verdict
+
+    assert verdict("E", 3.0, test=lambda a: np.isclose(a, 4.0)).startswith("E: not yet")
+    assert verdict("E", 4.0, test=lambda a: np.isclose(a, 4.0)) == "E: correct"
+    assert verdict("E", [4.0, 4.0], test=lambda a: np.isclose(a, 4.0)) == "E: correct"
+
+
+@pytest.mark.parametrize("answer", ["4", np.array([4.0 + 1j]), True])
+def test_verdict_compares_numbers_only(answer):
+    # "4" was read as 4.0 and np.array([4+1j]) lost its imaginary part (a ComplexWarning):
+    # both were "correct"
+    from probrob.exercises import verdict
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        line = verdict("E", answer, 4.0 if answer is not True else 1.0)
+    assert (
+        line
+        == "E: not yet — expected a number or an array of numbers, got " + type(answer).__name__
+    )
