@@ -174,3 +174,67 @@ def test_verdict_compares_numbers_only(answer):
         line
         == "E: not yet — expected a number or an array of numbers, got " + type(answer).__name__
     )
+
+
+# ----------------------------------------------------------- item 7: OccupancyGrid.from_scans
+def test_from_scans_with_every_reading_at_max_range_is_all_free():
+    # was numpy's "zero-size array to reduction operation maximum which has no identity"
+    poses = [[0.0, 0.0, 0.0], [1.0, 0.5, 1.0]]
+    grid = maps.OccupancyGrid.from_scans(
+        poses, np.full((2, 3), 8.0), [-0.5, 0.0, 0.5], 0.1, max_range=8.0
+    )
+    assert not grid.occupied.any()
+    assert grid.contains(np.array(poses)[:, :2]).all()
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"margin": -1.0}, "margin"),
+        ({"margin": np.nan}, "margin"),
+        ({"margin": [1.0, 2.0]}, "margin"),
+        ({"margin": "1"}, "margin"),
+        ({"p_free": [0.1, 0.2]}, "p_free"),
+        ({"p_occupied": [0.7, 0.8]}, "p_occupied"),
+    ],
+)
+def test_from_scans_checks_margin_and_the_inverse_sensor_model(kwargs, name):
+    # margin was not checked at all; an array p_free raised numpy's "truth value of an array"
+    with pytest.raises(ValueError, match=name):
+        maps.OccupancyGrid.from_scans(
+            [[0.0, 0.0, 0.0]], [[1.0, 2.0]], [0.0, 0.5], 0.1, max_range=8.0, **kwargs
+        )
+
+
+def test_from_scans_counts_in_small_integers():
+    # A 200 m x 200 m extent at 5 cm is 16 million cells: the counts were int64 (and their
+    # log-odds float64), 32 bytes per cell, so 700 m x 700 m needed 4.5 GB; now 4 bytes.
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        grid = maps.OccupancyGrid.from_scans(
+            [[0.0, 0.0, 0.0], [200.0, 200.0, 0.0]], [[1.0], [1.0]], [0.0], 0.05, max_range=10.0
+        )
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert grid.occupied.size > 1.6e7
+    assert peak < 5 * grid.occupied.size, peak / grid.occupied.size
+
+
+def test_from_scans_too_large_says_what_it_needs():
+    # 100 km x 100 km at 5 cm: 4e12 cells; was numpy's bare MemoryError from bincount
+    with pytest.raises(MemoryError, match=r"2e\+06 x 2e\+06 cells at resolution 0.05 m.*GiB"):
+        maps.OccupancyGrid.from_scans(
+            [[0.0, 0.0, 0.0], [1e5, 1e5, 0.0]], [[1.0], [1.0]], [0.0], 0.05, max_range=10.0
+        )
+
+
+def test_from_scans_with_end_points_beyond_float64_names_its_arguments():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match="overflows float64"):
+            maps.OccupancyGrid.from_scans(
+                [[1e308, 0.0, 0.0]], [[1e308]], [0.0], 0.05, max_range=1.7e308
+            )

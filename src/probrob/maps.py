@@ -239,6 +239,16 @@ class OccupancyGrid:
         angles = check.finite(beam_angles, "beam_angles")
         resolution = check.positive_scalar(resolution, "resolution")
         max_range = check.positive_scalar(max_range, "max_range")
+        margin = check.finite(margin, "margin")
+        if margin.ndim != 0 or margin < 0:
+            raise ValueError(f"margin must be a scalar >= 0 (metres), got {check._short(margin)}")
+        margin = float(margin)
+        p_occupied = check.in_range(p_occupied, "p_occupied", 0.0, 1.0)
+        p_free = check.in_range(p_free, "p_free", 0.0, 1.0)
+        if not 0.5 < p_occupied < 1:
+            raise ValueError(f"p_occupied must lie in (0.5, 1), got {p_occupied!r}")
+        if not 0 < p_free < 0.5:
+            raise ValueError(f"p_free must lie in (0, 0.5), got {p_free!r}")
         if poses.ndim != 2 or ranges.ndim != 2 or angles.ndim != 1:
             raise ValueError("poses, ranges and beam_angles must have shapes (S, 3), (S, K), (K,)")
         if ranges.shape != (poses.shape[0], angles.shape[0]):
@@ -246,27 +256,51 @@ class OccupancyGrid:
                 f"ranges must have shape (S, K) = ({poses.shape[0]}, {angles.shape[0]}), "
                 f"got {ranges.shape}"
             )
+        if poses.shape[0] == 0:
+            raise ValueError("poses must hold at least one scan pose, got shape (0, 3)")
         if np.any(ranges < 0):
             raise ValueError("ranges must be non-negative")
-        if not 0 < p_free < 0.5 < p_occupied < 1:
-            raise ValueError("need 0 < p_free < 0.5 < p_occupied < 1")
         phi = poses[:, 2:3] + angles
         valid = ranges < max_range
-        ex = poses[:, 0:1] + ranges * np.cos(phi)
-        ey = poses[:, 1:2] + ranges * np.sin(phi)
+        with np.errstate(over="ignore", invalid="ignore"):
+            ex = poses[:, 0:1] + ranges * np.cos(phi)
+            ey = poses[:, 1:2] + ranges * np.sin(phi)
+        for e in (ex, ey):
+            check.no_overflow(
+                np.where(valid, e, 0.0), "a scan end point", poses=poses, ranges=ranges
+            )
+        # The map spans the poses and the end points (only the poses if every reading is
+        # at max range: then the grid is all free), with room for the cell of the largest.
         xs = np.concatenate([poses[:, 0], ex[valid]])
         ys = np.concatenate([poses[:, 1], ey[valid]])
-        lo = np.array([xs.min(), ys.min()]) - margin
-        hi = np.array([xs.max(), ys.max()]) + margin
-        origin = np.floor(lo / resolution) * resolution
-        w, h = (np.ceil((hi - origin) / resolution)).astype(int)
+        with np.errstate(over="ignore", invalid="ignore"):  # too many cells: reported below
+            lo = np.array([xs.min(), ys.min()]) - margin
+            hi = np.array([xs.max(), ys.max()]) + margin
+            origin = np.floor(lo / resolution) * resolution
+            size = np.floor((hi - origin) / resolution) + 1.0
+        # Counts are at most one per beam and cell: the smallest unsigned type that holds S·K.
+        count_type = np.min_scalar_type(ranges.size)
+        cells = float(size[0]) * float(size[1])
+        need = cells * (2 * count_type.itemsize + 2)  # two counts, the grid and its copy
+        try:
+            if not (np.all(np.isfinite(origin)) and cells < 2**62):
+                raise MemoryError
+            w, h = (int(n) for n in size)
+            hits = np.zeros(h * w, dtype=count_type)
+            free = np.zeros(h * w, dtype=count_type)
+        except MemoryError:
+            raise MemoryError(
+                f"from_scans: the scans span {hi[0] - lo[0]:.4g} m x {hi[1] - lo[1]:.4g} m, "
+                f"{size[1]:.4g} x {size[0]:.4g} cells at resolution {resolution!r} m, which "
+                f"need about {need / 2**30:.3g} GiB; use a coarser resolution or fewer, "
+                "closer scans"
+            ) from None
         # End points: hit counts.
         hj = np.floor((ex[valid] - origin[0]) / resolution).astype(np.int64)
         hi_ = np.floor((ey[valid] - origin[1]) / resolution).astype(np.int64)
-        hits = np.bincount(hi_ * w + hj, minlength=h * w)
+        _add_counts(hits, hi_ * w + hj)
         # Free space: points every half cell from the sensor up to one cell before
         # the end point (readings at max range carve nothing), processed in chunks.
-        free = np.zeros(h * w, dtype=np.int64)
         sx, sy = (
             np.broadcast_to(poses[:, 0:1], ranges.shape),
             np.broadcast_to(poses[:, 1:2], ranges.shape),
@@ -278,7 +312,7 @@ class OccupancyGrid:
         step = 0.5 * resolution
         n_steps = np.ceil(length / step).astype(np.int64) + 1
         start = 0
-        chunk = max(1, 2_000_000 // max(1, int(n_steps.max())))
+        chunk = max(1, 2_000_000 // max(1, int(n_steps.max(initial=1))))
         while start < length.size:
             sl = slice(start, start + chunk)
             n = n_steps[sl]
@@ -294,19 +328,36 @@ class OccupancyGrid:
             # Count each cell once per beam (a beam's samples are in order along it).
             new = np.ones(total, dtype=bool)
             new[1:] = (flat[1:] != flat[:-1]) | (beam[1:] != beam[:-1])
-            free += np.bincount(flat[new], minlength=h * w)
+            _add_counts(free, flat[new])
             start += chunk
         l_occ = np.log(p_occupied / (1 - p_occupied))
         l_free = np.log(p_free / (1 - p_free))
-        occupied = (hits * l_occ + free * l_free > 0).reshape(h, w)
-        return cls(occupied, resolution, origin)
+        # Only a hit cell can have positive log-odds (l_free < 0): evaluate those alone.
+        occupied = np.zeros(h * w, dtype=bool)
+        hit = np.flatnonzero(hits)
+        occupied[hit] = hits[hit] * l_occ + free[hit] * l_free > 0
+        return cls(occupied.reshape(h, w), resolution, origin)
 
     def __repr__(self) -> str:
         h, w = self.shape
         return (
-            f"OccupancyGrid({h}x{w} cells of {self.resolution} m, origin={tuple(self.origin)}, "
+            f"OccupancyGrid({h}x{w} cells of {self.resolution} m, "
+            f"origin={tuple(self.origin.tolist())}, "
             f"{int(self.occupied.sum())} occupied)"
         )
+
+
+def _add_counts(counts: np.ndarray, flat: np.ndarray) -> None:
+    """``counts[k] += (number of times k occurs in flat)``, without a large int64 temporary.
+
+    ``np.bincount`` (fast) while its int64 result stays small next to the work, else a sort.
+    The caller guarantees that no count exceeds ``counts``' dtype.
+    """
+    if counts.size <= max(1 << 22, 4 * flat.size):
+        np.add(counts, np.bincount(flat, minlength=counts.size), out=counts, casting="unsafe")
+    else:
+        cells, n = np.unique(flat, return_counts=True)
+        counts[cells] += n.astype(counts.dtype)
 
 
 def _check_grid(grid) -> OccupancyGrid:
