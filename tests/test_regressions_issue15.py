@@ -238,3 +238,62 @@ def test_from_scans_with_end_points_beyond_float64_names_its_arguments():
             maps.OccupancyGrid.from_scans(
                 [[1e308, 0.0, 0.0]], [[1e308]], [0.0], 0.05, max_range=1.7e308
             )
+
+
+# -------------------------------------------- item 9: what a user's callable returns is checked
+X_PREV = np.zeros((4, 3))
+X_T = np.tile([0.1, 0.0, 0.0], (4, 1))
+ALPHA6 = [0.1] * 6
+
+
+def seven_values(a, b2):
+    return np.ones(7)
+
+
+def nan_sampler(b2, size=None, rng=None):
+    return np.full(size, np.nan)
+
+
+def test_a_prob_of_the_wrong_shape_is_an_error_naming_it():
+    # returned shape (7,) on 4 hypotheses
+    from probrob import motion
+
+    with pytest.raises(ValueError, match=r"prob \(seven_values\) returned shape \(7,\)"):
+        motion.motion_model_velocity(X_T, [1.0, 0.0], X_PREV, 0.1, ALPHA6, prob=seven_values)
+    with pytest.raises(ValueError, match=r"prob \(seven_values\) returned shape \(7,\)"):
+        motion.motion_model_odometry(
+            X_T, [[0, 0, 0], [0.1, 0, 0]], X_PREV, [0.1] * 4, prob=seven_values
+        )
+
+
+@pytest.mark.parametrize("model", ["velocity", "odometry", "landmark"])
+def test_a_sampler_returning_nan_is_named_not_alpha(model):
+    # the NaN reached the overflow check, which blamed the most extreme argument, α
+    from probrob import motion
+
+    with pytest.raises(ValueError, match=r"sample \(nan_sampler\) returned nan") as info:
+        if model == "velocity":
+            motion.sample_motion_model_velocity(
+                [1.0, 0.0], X_PREV, 0.1, ALPHA6, sample=nan_sampler
+            )
+        elif model == "odometry":
+            motion.sample_motion_model_odometry(
+                [[0, 0, 0], [1, 0, 0]], X_PREV, [0.1] * 4, sample=nan_sampler
+            )
+        else:
+            sensors.sample_landmark_model_known_correspondence(
+                [1.0, 0.2, 0.0], 0, [[2.0, 1.0, 0.0]], [0.1, 0.1, 0.1], sample=nan_sampler, size=3
+            )
+    assert "alpha" not in str(info.value)
+
+
+def test_plot_distribution_checks_what_prob_returns():
+    import matplotlib.pyplot as plt
+
+    from probrob import plotting
+
+    try:
+        with pytest.raises(ValueError, match=r"prob \(seven_values\) returned shape \(7,\)"):
+            plotting.plot_distribution(seven_values, 1.0)
+    finally:
+        plt.close("all")

@@ -182,9 +182,10 @@ def _log_prob(prob, name: str = "prob"):
     takes_log = _accepts_log(prob)
 
     def call(a, b2):
+        shape = np.broadcast_shapes(np.shape(a), np.shape(b2))
         if takes_log:
-            return check.callable_result(prob(a, b2, log=True), name)
-        p = check.callable_result(prob(a, b2), name)
+            return check.callable_result(prob(a, b2, log=True), name, shape, prob)
+        p = check.callable_result(prob(a, b2), name, shape, prob)
         if np.any(p < 0):
             raise ValueError(f"{name} returned a negative density")
         with np.errstate(divide="ignore"):

@@ -647,7 +647,7 @@ def sample_motion_model_velocity(
     # The variances broadcast to ``size`` inside the sampler (numpy's convention), so a
     # single command costs one scalar, not an array of a million equal variances.
     def draw(var):
-        return check.sample_output(sample(var, size=shape, rng=rng), "sample", shape)
+        return check.sample_output(sample(var, size=shape, rng=rng), "sample", shape, sample)
 
     # One draw at a time, each used at once: no more million-element arrays alive than needed.
     with np.errstate(over="ignore", invalid="ignore"):
@@ -957,7 +957,7 @@ def sample_motion_model_odometry(
     variances = _odometry_variances(alpha, rot1, trans, rot2, noise, u_t=u_t)
 
     def draw(var):
-        return check.sample_output(sample(var, size=shape, rng=rng), "sample", shape)
+        return check.sample_output(sample(var, size=shape, rng=rng), "sample", shape, sample)
 
     with np.errstate(over="ignore", invalid="ignore"):
         rot1_hat = rot1 - draw(variances[0])

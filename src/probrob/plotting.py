@@ -206,7 +206,8 @@ def plot_distribution(prob, b2, *, samples=None, ax=None, bins=60, label=None, c
             alpha=0.35,
             label=None if label is None else f"samples, {label}",
         )
-    ax.plot(a, prob(a, b2), color=color, lw=2, label=label)
+    density = check.callable_result(prob(a, b2), "prob", a.shape, prob)
+    ax.plot(a, np.broadcast_to(density, a.shape), color=color, lw=2, label=label)
     ax.set_xlabel("$a$")
     ax.set_ylabel("density $p(a)$")
     return ax

@@ -384,10 +384,10 @@ def sample_landmark_model_known_correspondence(
 
     gamma = rng.uniform(0.0, _TWO_PI, size=shape)
     r_hat = f[..., 0] + check.sample_output(
-        sample(sig[0] ** 2, size=shape, rng=rng), "sample", shape
+        sample(sig[0] ** 2, size=shape, rng=rng), "sample", shape, sample
     )
     phi_hat = f[..., 1] + check.sample_output(
-        sample(sig[1] ** 2, size=shape, rng=rng), "sample", shape
+        sample(sig[1] ** 2, size=shape, rng=rng), "sample", shape, sample
     )
     landmark = m[c]
     out = np.empty((*shape, 3))
