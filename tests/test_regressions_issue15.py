@@ -297,3 +297,51 @@ def test_plot_distribution_checks_what_prob_returns():
             plotting.plot_distribution(seven_values, 1.0)
     finally:
         plt.close("all")
+
+
+# ------------------------------------- item 10: simulate_run, random_landmarks use the checks
+def _simulate(**kwargs):
+    from probrob import simulation
+
+    m = simulation.grid_landmarks(2, 2, 3.0)
+    controls = simulation.loop_controls(5, 0.1)
+    return simulation.simulate_run(
+        [0, 0, 0], controls, 0.1, m, [0.01] * 4, [0.1, 0.01, 0.0], rng=0, **kwargs
+    )
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"max_range": [1.0, 2.0]}, "max_range"),  # was float()'s TypeError
+        ({"max_range": "a"}, "max_range"),  # was "could not convert string to float"
+        ({"max_range": None}, "max_range"),
+        ({"fov": [1.0, 2.0]}, "fov"),
+        ({"fov": None}, "fov"),
+    ],
+)
+def test_simulate_run_checks_max_range_and_fov(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        _simulate(**kwargs)
+
+
+def test_simulate_run_still_takes_an_infinite_max_range():
+    # not a regression test: the guard that the checks above keep max_range = inf legal
+    assert _simulate(max_range=np.inf).steps[0].z.shape == (4, 3)
+    with pytest.raises(ValueError, match="max_range"):
+        _simulate(max_range=np.nan)
+
+
+def test_random_landmarks_checks_min_distance():
+    # float() of an array raised "only length-1 arrays can be converted" (a TypeError)
+    from probrob import simulation
+
+    with pytest.raises(ValueError, match="min_distance"):
+        simulation.random_landmarks(3, (0, 10, 0, 10), min_distance=[1.0, 2.0], rng=0)
+
+
+def test_the_simulator_and_the_plots_share_one_exact_normal_sampler():
+    from probrob import distributions, plotting, simulation
+
+    assert plotting.DISTRIBUTIONS["normal (exact)"][1] is distributions._sample_exact_normal
+    assert simulation._sample_exact_normal is distributions._sample_exact_normal

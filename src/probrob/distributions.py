@@ -291,8 +291,21 @@ def sample_triangular_distribution(b2, size=None, rng=None):
     return check.scalar_or_array(_SQRT6 * b * (u[0] + u[1] - 1.0))
 
 
+def _sample_exact_normal(b2, size=None, rng=None):
+    """``sample_normal_distribution(b2, size, rng, method="exact")`` as a ``sample`` callable.
+
+    The one exact-normal sampler of the library (the simulator's motion noise, the plots'
+    "normal (exact)" choice).
+    """
+    return sample_normal_distribution(b2, size=size, rng=rng, method="exact")
+
+
 # Samplers whose result is a fresh array the motion models may scale in place.
-_FRESH_SAMPLERS = (sample_normal_distribution, sample_triangular_distribution)
+_FRESH_SAMPLERS = (
+    sample_normal_distribution,
+    sample_triangular_distribution,
+    _sample_exact_normal,
+)
 
 
 def _returns_fresh(sample) -> bool:

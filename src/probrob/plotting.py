@@ -40,6 +40,7 @@ import numpy as np
 from . import _validation as check
 from .angles import wrap_angle
 from .distributions import (
+    _sample_exact_normal,
     prob_normal_distribution,
     prob_triangular_distribution,
     sample_normal_distribution,
@@ -76,14 +77,10 @@ __all__ = [
 ]
 
 
-def _sample_exact(b2, size=None, rng=None):
-    return sample_normal_distribution(b2, size=size, rng=rng, method="exact")
-
-
 #: The noise distributions a reader can choose: name -> (``prob``, ``sample``).
 DISTRIBUTIONS: dict[str, tuple[Callable, Callable]] = {
     "normal (12 uniforms)": (prob_normal_distribution, sample_normal_distribution),
-    "normal (exact)": (prob_normal_distribution, _sample_exact),
+    "normal (exact)": (prob_normal_distribution, _sample_exact_normal),
     "triangular": (prob_triangular_distribution, sample_triangular_distribution),
 }
 
