@@ -345,3 +345,75 @@ def test_the_simulator_and_the_plots_share_one_exact_normal_sampler():
 
     assert plotting.DISTRIBUTIONS["normal (exact)"][1] is distributions._sample_exact_normal
     assert simulation._sample_exact_normal is distributions._sample_exact_normal
+
+
+# ----------------------------------------- item 6 (outside localization): bool flags checked
+def _plotting_call(name, value):
+    from probrob import plotting
+
+    pose_a, pose_b = [0.0, 0.0, 0.0], [1.0, 0.5, 0.3]
+    if name == "hat":
+        return plotting.plot_odometry_deltas(pose_a, pose_b, hat=value)
+    if name == "colorbar":
+        return plotting.plot_density_xy([0.0, 1.0], [0.0, 1.0], np.ones((2, 2)), colorbar=value)
+    if name == "orientation":
+        return plotting.plot_density_xy(
+            [0.0, 1.0], [0.0, 1.0], np.ones((2, 2)), colorbar=True, orientation=value
+        )
+    if name in ("show_density", "motion colorbar"):
+        key = "show_density" if name == "show_density" else "colorbar"
+        return plotting.plot_motion_model(
+            "velocity", [1.0, 0.5], pose_a, [0.1] * 6, n_samples=10, grid=4, **{key: value}
+        )
+    if name == "arrow odometry":
+        return plotting.plot_odometry_deltas(pose_a, pose_b, arrow=value)
+    if name == "arrow velocity":
+        return plotting.plot_velocity_geometry(pose_a, pose_b, 1.0, arrow=value)
+    raise AssertionError(name)
+
+
+@pytest.mark.parametrize(
+    "name, value, match",
+    [
+        ("hat", "False", "hat"),  # the string "False" is truthy: it drew the hat labels
+        ("colorbar", "no", "colorbar"),
+        ("show_density", "False", "show_density"),
+        ("motion colorbar", "sideways", "colorbar"),
+        ("arrow odometry", [1.0, 2.0], "arrow"),  # float() of an array: a TypeError
+        ("arrow velocity", -1.0, "arrow"),  # a negative arrow was drawn backwards
+    ],
+)
+def test_plot_flags_and_arrows_are_checked(name, value, match):
+    import matplotlib.pyplot as plt
+
+    before = plt.get_fignums()
+    try:
+        with pytest.raises(ValueError, match=match):
+            _plotting_call(name, value)
+        if name.startswith("arrow") or name == "hat":
+            assert plt.get_fignums() == before  # the check comes before the figure
+    finally:
+        plt.close("all")
+
+
+def test_parameter_player_and_em_check_their_flags():
+    from probrob import widgets
+
+    with pytest.raises(ValueError, match="fixed_axes"):
+        widgets.parameter_player(lambda ax, v: None, [1.0, 2.0], label="v", fixed_axes="no")
+    with pytest.raises(ValueError, match="full_output"):
+        sensors.learn_intrinsic_parameters([1.0, 2.0], [1.0, 2.0], 5.0, full_output="yes")
+
+
+def test_live_widget_constants_must_be_numbers():
+    from probrob import _live
+
+    with pytest.raises(ValueError, match=r"constants\['zmax'\] must be a number"):
+        _live.live_widget(
+            "beam",
+            [_live.Slider("a", "a", 0.1, 0.0, 1.0, 0.1)],
+            title="t",
+            caption="c",
+            aria_label="l",
+            constants={"zmax": [1, 2]},
+        )

@@ -884,6 +884,7 @@ def learn_intrinsic_parameters(
     m_step = check.choice(m_step, "m_step", ("exact", "book"))
     tol = check.positive_scalar(tol, "tol")
     max_iter = check.count(max_iter, "max_iter", minimum=1)
+    full_output = check.flag(full_output, "full_output")
     at_max = z >= max_range
     if init is None:
         dev = np.abs(z - z_star)[~at_max]
