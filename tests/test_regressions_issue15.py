@@ -417,3 +417,35 @@ def test_live_widget_constants_must_be_numbers():
             aria_label="l",
             constants={"zmax": [1, 2]},
         )
+
+
+# ------------------------------------------------------------------ the sweep: leaked warnings
+def test_em_on_short_readings_all_at_zero_leaks_no_overflow():
+    # The MLE of λ_short is infinite there: the bracket search of _fit_lambda doubled log λ
+    # until exp overflowed (355 steps, "overflow encountered in expm1"); now it stops at the
+    # documented bound 1e9 / z_max.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        p = sensors.learn_intrinsic_parameters(np.zeros(200), np.full(200, 5.0), 10.0)
+    assert p.lambda_short == pytest.approx(1e9 / 10.0)
+    assert p.z_short == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("z", [[0.0], [0.0, 1e-300]])
+def test_em_on_a_reading_at_z_equal_z_star_equal_0(z):
+    # z = z* = 0 is p_short's point mass (+inf): its responsibilities were 0/0 ("invalid value
+    # encountered in divide") and, with a weight gone to 0, log 0 + inf = NaN
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        p, info = sensors.learn_intrinsic_parameters(z, 0.0, 10.0, max_iter=5, full_output=True)
+    assert info.responsibilities[0].tolist() == [0.0, 1.0, 0.0, 0.0]
+    assert np.isfinite(p.weights).all()
+
+
+def test_marching_an_empty_map_to_a_huge_range_leaks_no_warning():
+    # t jumped to max_range / resolution = 1e300 cells; its cell index overflowed int64
+    grid = maps.OccupancyGrid(np.zeros((3, 4), dtype=bool), 1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        z = maps.ray_cast(grid, [1.5, 1.5, 0.3], [0.0, 1.0], 1e300, method="march")
+    np.testing.assert_array_equal(z, [1e300, 1e300])

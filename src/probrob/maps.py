@@ -720,10 +720,9 @@ def _march(grid, gx, gy, dx, dy, t_max, *, stop=0.5):
         if steps == bound:
             raise _unfinished("march", idx.size, bound)
         steps += 1
-        px = gx + t * dx
-        py = gy + t * dy
-        j = np.floor(px).astype(np.int64)
-        i = np.floor(py).astype(np.int64)
+        # clipped to the ring around the grid: t may be 1e300 cells (an empty map)
+        j = np.floor(np.clip(gx + t * dx, -1.0, float(w))).astype(np.int64)
+        i = np.floor(np.clip(gy + t * dy, -1.0, float(h))).astype(np.int64)
         outside = (i < 0) | (i >= h) | (j < 0) | (j >= w) | (t >= t_max)
         d = np.where(outside, 0.0, dist[np.clip(i, 0, h - 1) * w + np.clip(j, 0, w - 1)])
         hit = ~outside & (d < stop)

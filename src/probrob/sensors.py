@@ -727,10 +727,16 @@ class EMInfo:
     responsibilities: np.ndarray = field(repr=False)
 
 
+def _weighted(lc, lw):
+    """``lc + lw`` with a zero weight's term -inf also where ``lc`` is +inf (0 · ∞ = 0)."""
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isneginf(lw), -np.inf, lc + lw)
+
+
 def _mean_log_likelihood(lc, lw, at_max):
     """Mean log-likelihood per reading: the log density below z_max, log z_max at it."""
     with np.errstate(divide="ignore"):
-        ll = np.where(at_max, lw[2], _logsumexp(lc + lw, axis=-1))
+        ll = np.where(at_max, lw[2], _logsumexp(_weighted(lc, lw), axis=-1))
     return float(np.mean(ll)) if not np.isneginf(ll).any() else -np.inf
 
 
@@ -741,13 +747,18 @@ def _responsibilities(lc, lw, at_max, e_step):
         # the point mass p_max = 1 added to densities.
         a = lc
     else:
-        a = lc + lw
+        a = _weighted(lc, lw)
         # A reading at z_max is the point mass: only p_max has mass there.
         a = np.where(at_max[:, None], np.array([-np.inf, -np.inf, 0.0, -np.inf]), a)
     norm = _logsumexp(a, axis=-1)
     ok = np.isfinite(norm)
     e = np.zeros_like(a)
     e[ok] = np.exp(a[ok] - norm[ok, None])
+    # A reading at z = z* = 0 is p_short's point mass (+inf): it explains the reading alone.
+    point = np.isposinf(norm)
+    if point.any():
+        mass = np.isposinf(a[point])
+        e[point] = mass / mass.sum(axis=-1, keepdims=True)
     return e
 
 
@@ -784,7 +795,10 @@ def _fit_lambda(e, z, z_star, max_range, m_step):
 
     The MLE solves Σ e_i (1/λ − z_i − z*_i / (exp(λ z*_i) − 1)) = 0, whose left side
     decreases in λ; if it is negative already as λ → 0 (the short readings are not
-    biased towards 0) the MLE is the boundary and λ = 1e-6/z_max is returned.
+    biased towards 0) the MLE is the boundary and λ = 1e-6/z_max is returned; if it is
+    still positive at λ = 1e9/z_max (the short readings all at 0, where the MLE is
+    infinite: a point mass at 0) that bound is returned. The bracket search therefore
+    takes at most 18 doublings of log λ's step.
     """
     w = (e > 1e-12) & (z_star > 0)
     ew, zw, zsw = e[w], z[w], z_star[w]
@@ -798,14 +812,17 @@ def _fit_lambda(e, z, z_star, max_range, m_step):
 
     def g(log_lam):
         lam = np.exp(log_lam)
-        return total / lam - np.sum(ew * zw) - np.sum(ew * zsw / np.expm1(lam * zsw))
+        with np.errstate(over="ignore"):  # exp(λ z*) beyond float64: its term is 0
+            return total / lam - np.sum(ew * zw) - np.sum(ew * zsw / np.expm1(lam * zsw))
 
-    lo = np.log(1e-6 / max_range)
+    lo, top = np.log(1e-6 / max_range), np.log(1e9 / max_range)
     if g(lo) <= 0:
         return float(np.exp(lo))
-    hi = max(np.log(lam_book), lo) + 1.0
-    while g(hi) > 0:
-        hi += 2.0
+    hi = min(max(np.log(lam_book), lo) + 1.0, top)
+    while g(hi) > 0:  # at most (top - lo) / 2 + 1 = 18 steps
+        if hi == top:
+            return float(np.exp(top))
+        hi = min(hi + 2.0, top)
     return float(np.exp(brentq(g, lo, hi, xtol=1e-12)))
 
 
