@@ -449,3 +449,36 @@ def test_marching_an_empty_map_to_a_huge_range_leaks_no_warning():
         warnings.simplefilter("error")
         z = maps.ray_cast(grid, [1.5, 1.5, 0.3], [0.0, 1.0], 1e300, method="march")
     np.testing.assert_array_equal(z, [1e300, 1e300])
+
+
+# ------------------------------------- the sweep: messages that named the wrong thing
+def test_the_beam_model_names_x_for_a_pose_off_the_map():
+    # the check ran inside ray_cast, whose argument is "poses": "poses: 1 pose(s) lie outside"
+    grid = maps.OccupancyGrid(np.zeros((4, 4), dtype=bool), 1.0)
+    params = sensors.BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, 6.0)
+    with pytest.raises(
+        ValueError, match=r"^x: 1 pose\(s\) lie outside the map \(extent \(0.0, 4.0"
+    ):
+        sensors.beam_range_finder_model([1.0], [9.0, 1.0, 0.0], grid, [0.0], params)
+
+
+def test_messages_show_numbers_not_numpy_reprs():
+    # numpy 2 scalars printed as "np.float64(-1.0)" in the messages
+    from probrob import distributions, widgets
+
+    with pytest.raises(ValueError, match=r"got min -1\.0$"):
+        distributions.sample_normal_distribution(np.array([1.0, -1.0]))
+    with pytest.raises(ValueError, match=r"got min -1\.0$"):
+        sensors.beam_mixture(
+            np.array([-1.0]), 1.0, sensors.BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, 6.0)
+        )
+    with pytest.raises(ValueError, match=r"got 0\.6$"):
+        widgets.velocity_model_explorer(alpha=np.array([0.6, 0.1, 0.1, 0.1, 0.1, 0.1]))
+
+
+def test_grid_landmarks_spacing_of_the_wrong_shape_names_it():
+    # was numpy's "operands could not be broadcast together with remapped shapes"
+    from probrob import simulation
+
+    with pytest.raises(ValueError, match="spacing must be one value or"):
+        simulation.grid_landmarks(2, 2, [1.0, 2.0, 3.0])

@@ -43,7 +43,12 @@ _REAL_KINDS = "biuf"  # bool, signed and unsigned integers, floats
 
 
 def _short(value, limit: int = 120) -> str:
-    """``repr(value)``, cut to ``limit`` characters (a message must stay readable)."""
+    """``repr(value)``, cut to ``limit`` characters (a message must stay readable).
+
+    A numpy scalar shows as the Python number (``0.6``, not ``np.float64(0.6)``).
+    """
+    if isinstance(value, np.generic):
+        value = value.item()
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 5] + " ...]"
 
@@ -113,7 +118,7 @@ def variance(value, name: str = "b2") -> np.ndarray:
     if np.any(np.isnan(arr)):
         raise ValueError(f"{name} must not be NaN")
     if np.any(arr < 0):
-        raise ValueError(f"{name} is a variance and must be >= 0, got min {arr.min()!r}")
+        raise ValueError(f"{name} is a variance and must be >= 0, got min {_short(arr.min())}")
     if np.any(np.isinf(arr)):
         raise ValueError(f"{name} must be finite")
     return arr

@@ -33,8 +33,11 @@ last:
 ``"march"``
     Plain sphere tracing (ray marching) on the distance field as in range_libc's
     ``RayMarching``: step by the distance to the nearest occupied cell centre and stop
-    when it falls below half a cell. Approximate (errors of about a cell, larger on
-    grazing beams); kept to show what the exact methods buy.
+    when it falls below half a cell. Approximate, with no bound on the error: a beam
+    that passes within half a cell of an occupied cell's centre stops there, however far
+    the cell it really hits (on the benchmark's 180,000 beams the error has median 0.5
+    cells and 99th percentile 1 cell, but reaches 353 cells on a beam that grazes a
+    corner); kept to show what the exact methods buy.
 
 Every traversal terminates by construction: each step moves a ray at least one cell
 forward (or, when marching, half a cell), so its loop is bounded by the grid's size; the
@@ -112,7 +115,7 @@ class OccupancyGrid:
     def extent(self) -> tuple[float, float, float, float]:
         """``(x_min, x_max, y_min, y_max)`` in metres (for ``imshow(extent=...)``)."""
         h, w = self.shape
-        ox, oy = self.origin
+        ox, oy = self.origin.tolist()
         return (ox, ox + w * self.resolution, oy, oy + h * self.resolution)
 
     def world_to_cell(self, xy) -> np.ndarray:

@@ -461,7 +461,7 @@ def _check_ranges(z, name, max_range):
     """Ranges must be finite and >= 0; readings beyond ``max_range`` become ``max_range``."""
     z = check.finite(z, name)
     if np.any(z < 0):
-        raise ValueError(f"{name} must be non-negative ranges, got min {z.min()!r}")
+        raise ValueError(f"{name} must be non-negative ranges, got min {float(z.min())!r}")
     return np.minimum(z, max_range)
 
 
@@ -660,6 +660,8 @@ def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, metho
     p = _check_params(params)
     z = _check_ranges(z, "z", p.max_range)
     x, angles, log = _scan_inputs(z, x, beam_angles, log)
+    grid = _check_grid(grid)
+    _check_inside(grid, x[..., :2], "x")  # here, so that the message names x, not "poses"
     z_star = ray_cast(grid, x, angles, p.max_range, method=method)
     lp = _mixture(z, z_star, p, log=True).sum(axis=-1)
     return check.scalar_or_array(lp if log else np.exp(lp))

@@ -114,7 +114,10 @@ def grid_landmarks(nx, ny, spacing, origin=(0.0, 0.0), signatures=None):
     m : ndarray, shape (nx·ny, 3)
     """
     nx, ny = check.count(nx, "nx", 1), check.count(ny, "ny", 1)
-    sp = np.broadcast_to(check.finite(spacing, "spacing"), (2,))
+    sp = check.finite(spacing, "spacing")
+    if sp.shape not in ((), (1,), (2,)):
+        raise ValueError(f"spacing must be one value or (along x, along y), got shape {sp.shape}")
+    sp = np.broadcast_to(sp, (2,))
     if np.any(sp <= 0):
         raise ValueError(f"spacing must be > 0, got {spacing!r}")
     ox, oy = check.vectors(origin, "origin", 2, "x, y")
