@@ -253,7 +253,8 @@ def _sinc_derivative(h):
 
     For :math:`|h| < 0.1` the Taylor series :math:`-h/3 + h^3/30 - h^5/840 + h^7/45360 -
     h^9/3991680` (next term below :math:`10^{-18}` relative); elsewhere the closed form,
-    which loses at most two digits there.
+    whose cancellation costs at most 2.5 digits, at :math:`|h| = 0.1` (relative error
+    below :math:`5 \cdot 10^{-14}`).
     """
     if type(h) is float:
         return _sinc_derivative_series(h) if abs(h) < 0.1 else _sinc_derivative_closed(h)
