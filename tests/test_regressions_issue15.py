@@ -208,7 +208,8 @@ def test_from_scans_checks_margin_and_the_inverse_sensor_model(kwargs, name):
 
 def test_from_scans_counts_in_small_integers():
     # A 200 m x 200 m extent at 5 cm is 16 million cells: the counts were int64 (and their
-    # log-odds float64), 32 bytes per cell, so 700 m x 700 m needed 4.5 GB; now 4 bytes.
+    # log-odds float64), 32 bytes per cell, so 700 m x 700 m needed 4.5 GB; now one byte per
+    # count (two scans of one beam) and the boolean grids: 6 bytes.
     import tracemalloc
 
     tracemalloc.start()
@@ -220,7 +221,7 @@ def test_from_scans_counts_in_small_integers():
     finally:
         tracemalloc.stop()
     assert grid.occupied.size > 1.6e7
-    assert peak < 5 * grid.occupied.size, peak / grid.occupied.size
+    assert peak < 7 * grid.occupied.size, peak / grid.occupied.size
 
 
 def test_from_scans_too_large_says_what_it_needs():

@@ -85,9 +85,13 @@ class OccupancyGrid:
         Read-only copy of the grid.
     resolution : float
     origin : ndarray, shape (2,)
+    free : ndarray of bool, shape (H, W)
+        Read-only: the cells known to be free. By default every cell that is not occupied;
+        a grid built :meth:`from_scans` knows only the cells its beams saw (a cell no beam
+        crossed or ended in is neither free nor occupied: unexplored).
     """
 
-    def __init__(self, occupied, resolution, origin=(0.0, 0.0)):
+    def __init__(self, occupied, resolution, origin=(0.0, 0.0), *, free=None):
         occ = np.asarray(occupied)
         if occ.dtype != bool:
             if not np.issubdtype(occ.dtype, np.number) or not np.all(np.isin(occ, (0, 1))):
@@ -103,6 +107,20 @@ class OccupancyGrid:
             raise ValueError(f"origin must have shape (2,), got {origin.shape}")
         self.origin = origin
         self.origin.flags.writeable = False
+        if free is None:
+            free = ~self.occupied
+        else:
+            free = np.asarray(free)
+            if free.dtype != bool or free.shape != self.occupied.shape:
+                raise ValueError(
+                    f"free must be a boolean array of the shape of occupied {occ.shape}, got "
+                    f"{free.dtype} {free.shape}"
+                )
+            if np.any(free & self.occupied):
+                raise ValueError("free and occupied overlap: a cell cannot be both")
+            free = free.copy()
+        free.flags.writeable = False
+        self.free = free
         self._likelihood_tables: dict = {}
 
     # ------------------------------------------------------------------ geometry
@@ -236,6 +254,7 @@ class OccupancyGrid:
         Returns
         -------
         grid : OccupancyGrid
+            Its :attr:`free` cells are those that some beam saw and that are not occupied.
         """
         poses = check.poses(poses, "poses")
         ranges = check.finite(ranges, "ranges")
@@ -284,7 +303,8 @@ class OccupancyGrid:
         # Counts are at most one per beam and cell: the smallest unsigned type that holds S·K.
         count_type = np.min_scalar_type(ranges.size)
         cells = float(size[0]) * float(size[1])
-        need = cells * (2 * count_type.itemsize + 2)  # two counts, the grid and its copy
+        # two counts; occupied and free cells, their copies in the grid, one temporary
+        need = cells * (2 * count_type.itemsize + 5)
         try:
             if not (np.all(np.isfinite(origin)) and cells < 2**62):
                 raise MemoryError
@@ -339,7 +359,11 @@ class OccupancyGrid:
         occupied = np.zeros(h * w, dtype=bool)
         hit = np.flatnonzero(hits)
         occupied[hit] = hits[hit] * l_occ + free[hit] * l_free > 0
-        return cls(occupied.reshape(h, w), resolution, origin)
+        # The cells some beam saw (hit or crossed) and that are not occupied are free.
+        seen = hits > 0
+        seen |= free > 0
+        seen &= ~occupied
+        return cls(occupied.reshape(h, w), resolution, origin, free=seen.reshape(h, w))
 
     def __repr__(self) -> str:
         h, w = self.shape
