@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 
 import matplotlib
 import numpy as np
@@ -102,3 +104,34 @@ def sampler_for():
 @pytest.fixture
 def chi_square():
     return chi_square_pvalue
+
+
+# --------------------------------------------------------------------------- time limits
+class TimeLimitExceeded(AssertionError):
+    """A block given to ``time_limit`` ran longer than allowed (a loop that never ends?)."""
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: float):
+    """Fail (``TimeLimitExceeded``) instead of hanging if the block runs longer than ``seconds``.
+
+    SIGALRM-based (POSIX, main thread): the handler raises between two Python bytecodes,
+    which interrupts any loop written in Python, such as the library's vectorised traversals.
+    """
+
+    def on_alarm(signum, frame):
+        raise TimeLimitExceeded(f"did not finish within {seconds} s (a loop that never ends?)")
+
+    previous = signal.signal(signal.SIGALRM, on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+@pytest.fixture
+def time_limit():
+    """``with time_limit(seconds): ...`` fails the test if the block does not finish in time."""
+    return _time_limit

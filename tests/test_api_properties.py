@@ -1944,3 +1944,134 @@ def test_the_suite_counts():
     print(f"\nproperty suite: {n_functions} functions, {n_valid} valid examples per run, "
           f"{len(INVALID_ROWS)} invalid-input rows")  # fmt: skip
     assert n_functions >= 86 and n_valid >= 2200 and len(INVALID_ROWS) >= 2100
+
+
+# --------------------------------------------------------------------------- termination
+# (issue 15) Every loop whose number of steps depends on the data ends, on the valid inputs
+# that drive it hardest, within a time limit (the ``time_limit`` fixture of conftest.py:
+# SIGALRM, so a loop that never ends fails the test instead of hanging the run): ray
+# casting (its three traversals and sphere tracing, also within their proven step bounds,
+# ``maps._step_bounds``), the beam model on top of it, EM (its iterations and the bracket
+# search of λ_short), the rejection sampling of random_landmarks, the chunks of from_scans
+# and the block loop of the twelve-uniform sampler.
+
+_TERMINATION = settings(
+    max_examples=_scaled(60),
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
+_AXIS = [0.0, PI / 2, -PI / 2, PI, -PI, 1e-17, -1e-17, PI / 4, 1e-307, -1e-307, 5e-324]
+
+
+@st.composite
+def _ray_casting_case(draw):
+    h, w = draw(st.integers(1, 16)), draw(st.integers(1, 16))
+    pattern = draw(st.sampled_from(["random", "stripes", "rows", "empty", "full"]))
+    seed = draw(st.integers(0, 2**32 - 1))
+    occ = {
+        "random": np.random.default_rng(seed).random((h, w)) < 0.3,
+        "stripes": np.arange(h * w).reshape(h, w) % max(w, 1) == 0,
+        "rows": (np.arange(h)[:, None] % 2 == 0) & np.ones((h, w), bool),
+        "empty": np.zeros((h, w), bool),
+        "full": np.ones((h, w), bool),
+    }[pattern]
+    res = draw(st.sampled_from([1.0, 0.05, 0.3, 2.0**-3]))
+    origin = draw(st.sampled_from([0.0, 0.35, -7.3]))
+    grid = maps.OccupancyGrid(occ, res, (origin, origin))
+    # on grid lines and corners (half cells), a few ulps off them, or anywhere
+    on_lines = st.tuples(st.integers(0, 2 * w - 1), st.integers(0, 2 * h - 1)).map(
+        lambda ij: origin + 0.5 * res * np.array(ij, dtype=float)
+    )
+    anywhere = st.tuples(st.floats(0, 0.999999), st.floats(0, 0.999999)).map(
+        lambda uv: origin + res * np.array([uv[0] * w, uv[1] * h])
+    )
+    xy = draw(st.lists(st.one_of(on_lines, anywhere), min_size=1, max_size=6))
+    ulps = draw(st.sampled_from([0, 1, -2]))
+    xy = np.array(xy)
+    for _ in range(abs(ulps)):
+        xy = np.nextafter(xy, np.inf if ulps > 0 else -np.inf)
+    theta = draw(
+        st.lists(st.one_of(st.sampled_from(_AXIS), HEADING), min_size=len(xy), max_size=len(xy))
+    )
+    beams = draw(st.lists(st.one_of(st.sampled_from(_AXIS), ANGLE), min_size=1, max_size=5))
+    max_range = draw(st.sampled_from([1e-3, 1.0, 7.0, 1e6, 1e300]))
+    poses = np.c_[xy, theta]
+    return grid, poses[grid.contains(xy)], np.array(beams), max_range
+
+
+@_TERMINATION
+@given(case=_ray_casting_case())
+def test_ray_casting_terminates_within_its_step_bounds(case, time_limit):
+    grid, poses, beams, max_range = case
+    if not poses.size:
+        return
+    bounds = maps._step_bounds(grid.shape, max_range / grid.resolution)
+    with time_limit(20):
+        for method in maps._METHODS:
+            z, steps = maps._cast(grid, poses, beams, max_range, method)
+            assert all(n <= bounds[stage] for stage, n in steps.items()), (method, steps)
+            assert np.all((z >= 0) & (z <= max_range))
+        params = sensors.BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, min(max_range, 1e6))
+        sensors.beam_range_finder_model(np.zeros(beams.size), poses, grid, beams, params, log=True)
+
+
+_EM_RANGE = floats([0.0, 1e-300, 0.5, 5.0, np.nextafter(10.0, 0), 10.0, 12.0], 0.0, 10.0)
+
+
+@_TERMINATION
+@given(
+    z=st.lists(_EM_RANGE, min_size=1, max_size=40),
+    z_star=st.sampled_from([0.0, 1e-300, 2.0, 5.0, 9.999, 10.0]),
+    e_step=st.sampled_from(["weighted", "deck"]),
+    m_step=st.sampled_from(["exact", "book"]),
+    max_iter=st.integers(1, 60),
+)
+def test_em_terminates(z, z_star, e_step, m_step, max_iter, time_limit):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with time_limit(30):
+            params, info = sensors.learn_intrinsic_parameters(
+                z, z_star, 10.0, e_step=e_step, m_step=m_step, max_iter=max_iter, full_output=True
+            )
+    assert info.n_iter <= max_iter
+    assert np.isfinite([params.sigma_hit, params.lambda_short]).all()
+
+
+@_TERMINATION
+@given(
+    n=st.integers(1, 40),
+    min_distance=st.sampled_from([0.0, 0.5, 2.0, 20.0, 1e300]),
+)
+def test_random_landmarks_terminates(n, min_distance, time_limit):
+    with time_limit(30):
+        try:
+            m = simulation.random_landmarks(
+                n, (0.0, 10.0, 0.0, 10.0), min_distance=min_distance, rng=0
+            )
+        except ValueError as exc:  # the documented "cannot place" after its 1000 rounds
+            assert "cannot place" in str(exc)
+            return
+    assert m.shape == (n, 3)
+
+
+@_TERMINATION
+@given(
+    n_scans=st.integers(1, 4),
+    ranges=st.lists(floats([0.0, 0.01, 8.0, 30.0], 0.0, 30.0), min_size=3, max_size=3),
+    resolution=st.sampled_from([0.05, 0.5, 3.0]),
+)
+def test_from_scans_terminates(n_scans, ranges, resolution, time_limit):
+    poses = np.c_[np.arange(n_scans, dtype=float), np.zeros(n_scans), np.linspace(0, 3, n_scans)]
+    with time_limit(30):
+        grid = maps.OccupancyGrid.from_scans(
+            poses, np.tile(ranges, (n_scans, 1)), [-0.5, 0.0, 0.5], resolution, max_range=8.0
+        )
+    assert grid.contains(poses[:, :2]).all()
+
+
+@_TERMINATION
+@given(size=st.sampled_from([0, 1, (1 << 14) - 1, 1 << 14, (1 << 14) + 1, 100_003]))
+def test_the_twelve_uniform_sampler_terminates(size, time_limit):
+    with time_limit(30):
+        out = distributions.sample_normal_distribution(1.0, size=size, rng=0)
+    assert np.shape(out) == (size,)

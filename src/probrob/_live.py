@@ -295,9 +295,7 @@ def live_widget(
     for k, v in draws.items():
         if v.ndim != 2 or v.shape[1] != n_particles:
             raise ValueError(f"draws[{k!r}] must have shape (k, {n_particles}), got {v.shape}")
-    constants = {
-        k: float(check.finite(v, f"constants[{k!r}]")) for k, v in (constants or {}).items()
-    }
+    constants = {k: _constant(v, k) for k, v in (constants or {}).items()}
     names = [s.name for s in sliders] + [c.name for c in choices] + list(constants)
     if len(set(names)) != len(names):
         raise ValueError(f"parameter names must be unique, got {names}")
@@ -725,3 +723,11 @@ def beam_model_live(
         n_particles=0,
         grid=grid,
     )
+
+
+def _constant(value, key) -> float:
+    """One finite number for ``constants[key]`` (an array is an error, not float()'s TypeError)."""
+    arr = check.finite(value, f"constants[{key!r}]")
+    if arr.ndim != 0:
+        raise ValueError(f"constants[{key!r}] must be a number, got shape {arr.shape}")
+    return float(arr)

@@ -34,6 +34,7 @@ their argument.
 
 from __future__ import annotations
 
+import functools
 import operator
 
 import numpy as np
@@ -42,7 +43,12 @@ _REAL_KINDS = "biuf"  # bool, signed and unsigned integers, floats
 
 
 def _short(value, limit: int = 120) -> str:
-    """``repr(value)``, cut to ``limit`` characters (a message must stay readable)."""
+    """``repr(value)``, cut to ``limit`` characters (a message must stay readable).
+
+    A numpy scalar shows as the Python number (``0.6``, not ``np.float64(0.6)``).
+    """
+    if isinstance(value, np.generic):
+        value = value.item()
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 5] + " ...]"
 
@@ -112,7 +118,7 @@ def variance(value, name: str = "b2") -> np.ndarray:
     if np.any(np.isnan(arr)):
         raise ValueError(f"{name} must not be NaN")
     if np.any(arr < 0):
-        raise ValueError(f"{name} is a variance and must be >= 0, got min {arr.min()!r}")
+        raise ValueError(f"{name} is a variance and must be >= 0, got min {_short(arr.min())}")
     if np.any(np.isinf(arr)):
         raise ValueError(f"{name} must be finite")
     return arr
@@ -304,12 +310,15 @@ def _returned_array(value, name: str) -> np.ndarray:
         raise ValueError(f"{name} must return real numbers: {exc}") from None
 
 
-def sample_output(value, name: str, shape: tuple[int, ...]) -> np.ndarray:
-    """Check what a user's ``sample`` callable returned: real numbers broadcastable to ``shape``.
+def sample_output(value, name: str, shape: tuple[int, ...], func=None) -> np.ndarray:
+    """Check what a user's ``sample`` returned: finite real numbers broadcastable to ``shape``.
 
     Any real dtype is accepted and returned as ``float64`` (a copy only if it is not float64
     already). The caller must not modify the result in place unless it made the copy itself.
+    ``func``, the callable itself, is named in the message (a NaN it returns is its fault,
+    not that of the noise parameters).
     """
+    name = _callable_label(name, func)
     arr = _returned_array(value, name)
     try:
         full = np.broadcast_shapes(arr.shape, shape)
@@ -320,6 +329,7 @@ def sample_output(value, name: str, shape: tuple[int, ...]) -> np.ndarray:
             f"{name} returned shape {arr.shape}, which does not broadcast to the requested "
             f"size {shape}"
         )
+    _returned_finite(arr, name)
     return arr
 
 
@@ -370,9 +380,27 @@ def no_overflow(values, what: str, **arguments) -> None:
     raise overflow_error(what, index, **arguments)
 
 
-def callable_result(value, name: str) -> np.ndarray:
-    """Check an array returned by a user's callable (e.g. ``prob``): real, numeric, no NaN."""
+def callable_result(
+    value, name: str, shape: tuple[int, ...] | None = None, func=None
+) -> np.ndarray:
+    """Check an array returned by a user's callable (e.g. ``prob``): real, numeric, no NaN.
+
+    With ``shape`` (that of the arguments it was given, broadcast), the result must broadcast
+    to it: a ``prob`` that returns 7 values for 4 points is an error naming ``name``. ``func``,
+    the callable itself, is named in the message too.
+    """
+    name = _callable_label(name, func)
     arr = _returned_array(value, name)
+    if shape is not None:
+        try:
+            full = np.broadcast_shapes(arr.shape, shape)
+        except ValueError:
+            full = None
+        if full != tuple(shape):
+            raise ValueError(
+                f"{name} returned shape {arr.shape} for arguments of shape {tuple(shape)}: it "
+                "must return one value per point"
+            )
     if np.isnan(arr).any():
         raise ValueError(f"{name} returned NaN")
     return arr
@@ -410,3 +438,30 @@ def flag(value, name: str) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise ValueError(f"{name} must be True or False, got {_short(value)}")
     return bool(value)
+
+
+# --------------------------------------------------------------------------- user callables
+# (issue 15: what a user's callable returns is checked, and the message names the callable)
+
+
+def _callable_label(name: str, func) -> str:
+    """``"sample"`` or ``"sample (my_sampler)"``: the argument, and the callable's own name."""
+    if func is None:
+        return name
+    inner = func
+    while isinstance(inner, functools.partial):
+        inner = inner.func
+    label = getattr(inner, "__qualname__", None) or type(inner).__name__
+    if inner is not func:
+        label = f"functools.partial({label}, ...)"
+    return f"{name} ({label})"
+
+
+def _returned_finite(arr: np.ndarray, name: str) -> None:
+    """A sampler's draws must be finite: NaN or ±inf from ``name`` is its own error."""
+    if not all_finite(arr):
+        bad = float(arr[~np.isfinite(arr)].flat[0])
+        raise ValueError(
+            f"{name} returned {bad!r}: a sampler must return finite draws "
+            f"({int((~np.isfinite(arr)).sum())} of {arr.size} are not)"
+        )

@@ -182,9 +182,10 @@ def _log_prob(prob, name: str = "prob"):
     takes_log = _accepts_log(prob)
 
     def call(a, b2):
+        shape = np.broadcast_shapes(np.shape(a), np.shape(b2))
         if takes_log:
-            return check.callable_result(prob(a, b2, log=True), name)
-        p = check.callable_result(prob(a, b2), name)
+            return check.callable_result(prob(a, b2, log=True), name, shape, prob)
+        p = check.callable_result(prob(a, b2), name, shape, prob)
         if np.any(p < 0):
             raise ValueError(f"{name} returned a negative density")
         with np.errstate(divide="ignore"):
@@ -290,8 +291,21 @@ def sample_triangular_distribution(b2, size=None, rng=None):
     return check.scalar_or_array(_SQRT6 * b * (u[0] + u[1] - 1.0))
 
 
+def _sample_exact_normal(b2, size=None, rng=None):
+    """``sample_normal_distribution(b2, size, rng, method="exact")`` as a ``sample`` callable.
+
+    The one exact-normal sampler of the library (the simulator's motion noise, the plots'
+    "normal (exact)" choice).
+    """
+    return sample_normal_distribution(b2, size=size, rng=rng, method="exact")
+
+
 # Samplers whose result is a fresh array the motion models may scale in place.
-_FRESH_SAMPLERS = (sample_normal_distribution, sample_triangular_distribution)
+_FRESH_SAMPLERS = (
+    sample_normal_distribution,
+    sample_triangular_distribution,
+    _sample_exact_normal,
+)
 
 
 def _returns_fresh(sample) -> bool:

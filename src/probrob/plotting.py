@@ -40,6 +40,7 @@ import numpy as np
 from . import _validation as check
 from .angles import wrap_angle
 from .distributions import (
+    _sample_exact_normal,
     prob_normal_distribution,
     prob_triangular_distribution,
     sample_normal_distribution,
@@ -78,18 +79,16 @@ __all__ = [
 ]
 
 
-def _sample_exact(b2, size=None, rng=None):
-    return sample_normal_distribution(b2, size=size, rng=rng, method="exact")
-
-
 #: The noise distributions a reader can choose: name -> (``prob``, ``sample``).
 DISTRIBUTIONS: dict[str, tuple[Callable, Callable]] = {
     "normal (12 uniforms)": (prob_normal_distribution, sample_normal_distribution),
-    "normal (exact)": (prob_normal_distribution, _sample_exact),
+    "normal (exact)": (prob_normal_distribution, _sample_exact_normal),
     "triangular": (prob_triangular_distribution, sample_triangular_distribution),
 }
 
 _MODELS = ("velocity", "odometry")
+
+_ORIENTATIONS = ("vertical", "horizontal")
 
 #: Colorbar label of the densities over the plane (``density="xy"``).
 DENSITY_XY_LABEL = "density $p(x', y')$ [1/m²]"
@@ -208,7 +207,8 @@ def plot_distribution(prob, b2, *, samples=None, ax=None, bins=60, label=None, c
             alpha=0.35,
             label=None if label is None else f"samples, {label}",
         )
-    ax.plot(a, prob(a, b2), color=color, lw=2, label=label)
+    density = check.callable_result(prob(a, b2), "prob", a.shape, prob)
+    ax.plot(a, np.broadcast_to(density, a.shape), color=color, lw=2, label=label)
     ax.set_xlabel("$a$")
     ax.set_ylabel("density $p(a)$")
     return ax
@@ -295,6 +295,8 @@ def plot_density_xy(
     xs = check.finite(xs, "xs")
     ys = check.finite(ys, "ys")
     p = check.as_float_array(p, "p")
+    colorbar = check.flag(colorbar, "colorbar")
+    orientation = check.choice(orientation, "orientation", _ORIENTATIONS)
     if xs.ndim != 1 or ys.ndim != 1 or p.shape != (ys.size, xs.size):
         raise ValueError(
             f"p must have shape (len(ys), len(xs)) = ({ys.size}, {xs.size}) for 1-D xs and ys, "
@@ -472,6 +474,12 @@ def plot_motion_model(
     """
     check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
     prob, sample = DISTRIBUTIONS[distribution]
+    show_density = check.flag(show_density, "show_density")
+    if isinstance(colorbar, str):
+        orientation = check.choice(colorbar, "colorbar", _ORIENTATIONS)
+        colorbar = True
+    else:
+        colorbar, orientation = check.flag(colorbar, "colorbar"), "vertical"
     x_prev = check.single_pose(x_prev, "x_prev")
     n_samples = check.count(n_samples, "n_samples", 0)
     n_headings = check.count(n_headings, "n_headings", 0)
@@ -491,10 +499,7 @@ def plot_motion_model(
     if show_density:
         xs, ys = np.linspace(x0, x1, grid), np.linspace(y0, y1, grid)
         xy = np.stack(np.meshgrid(xs, ys), axis=-1)
-        orientation = colorbar if isinstance(colorbar, str) else "vertical"
-        plot_density_xy(
-            xs, ys, density(xy), ax=ax, colorbar=bool(colorbar), orientation=orientation
-        )
+        plot_density_xy(xs, ys, density(xy), ax=ax, colorbar=colorbar, orientation=orientation)
     size = 0.08 * (x1 - x0)
     if n_samples:
         plot_samples(samples, ax=ax, n_headings=min(n_headings, n_samples), length=size / 2)
@@ -593,17 +598,19 @@ def plot_velocity_geometry(x_prev, x_t, dt=1.0, ax=None, *, arrow=None):
     """
     from .motion import _invert_velocity
 
-    ax = _axes(ax)
     x_prev, x_t = check.poses(x_prev, "x_prev"), check.poses(x_t, "x_t")
     if x_prev.shape != (3,) or x_t.shape != (3,):
         raise ValueError("x_prev and x_t must each be one pose of shape (3,)")
     dt = check.positive_scalar(dt, "dt")
+    if arrow is not None:
+        arrow = check.positive_scalar(arrow, "arrow")
+    ax = _axes(ax)  # after the checks: a bad argument leaves no empty figure behind
     x, y, th = x_prev
     xp, yp, _ = x_t
     v_hat, w_hat, g_hat, half = (float(q) for q in _invert_velocity(x_t, x_prev, dt))
     turn = 2 * half
     dist = float(np.hypot(xp - x, yp - y))
-    arrow = (0.25 * dist if dist > 0 else 0.3) if arrow is None else float(arrow)
+    arrow = (0.25 * dist if dist > 0 else 0.3) if arrow is None else arrow
     points = [x_prev[:2], x_t[:2]]
     for px, py, heading in ((x, y, th), (xp, yp, x_t[2])):
         points.append([px + arrow * np.cos(heading), py + arrow * np.sin(heading)])
@@ -732,12 +739,15 @@ def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None, hat=False):
     -------
     ax : matplotlib.axes.Axes
     """
-    ax = _axes(ax)
     a, b = check.poses(xbar_prev, "xbar_prev"), check.poses(xbar_t, "xbar_t")
     if a.shape != (3,) or b.shape != (3,):
         raise ValueError("xbar_prev and xbar_t must each be one pose of shape (3,)")
+    hat = check.flag(hat, "hat")
+    if arrow is not None:
+        arrow = check.positive_scalar(arrow, "arrow")
+    ax = _axes(ax)  # after the checks: a bad argument leaves no empty figure behind
     rot1, trans, rot2 = (float(d) for d in odometry_deltas(a, b))
-    arrow = (0.25 * trans if trans > 0 else 0.3) if arrow is None else float(arrow)
+    arrow = (0.25 * trans if trans > 0 else 0.3) if arrow is None else arrow
     travel = a[2] + rot1
     d = "\\hat\\delta" if hat else "\\delta"
     name = "x" if hat else "\\bar x"

@@ -384,10 +384,10 @@ def sample_landmark_model_known_correspondence(
 
     gamma = rng.uniform(0.0, _TWO_PI, size=shape)
     r_hat = f[..., 0] + check.sample_output(
-        sample(sig[0] ** 2, size=shape, rng=rng), "sample", shape
+        sample(sig[0] ** 2, size=shape, rng=rng), "sample", shape, sample
     )
     phi_hat = f[..., 1] + check.sample_output(
-        sample(sig[1] ** 2, size=shape, rng=rng), "sample", shape
+        sample(sig[1] ** 2, size=shape, rng=rng), "sample", shape, sample
     )
     landmark = m[c]
     out = np.empty((*shape, 3))
@@ -461,7 +461,7 @@ def _check_ranges(z, name, max_range):
     """Ranges must be finite and >= 0; readings beyond ``max_range`` become ``max_range``."""
     z = check.finite(z, name)
     if np.any(z < 0):
-        raise ValueError(f"{name} must be non-negative ranges, got min {z.min()!r}")
+        raise ValueError(f"{name} must be non-negative ranges, got min {float(z.min())!r}")
     return np.minimum(z, max_range)
 
 
@@ -660,6 +660,8 @@ def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, metho
     p = _check_params(params)
     z = _check_ranges(z, "z", p.max_range)
     x, angles, log = _scan_inputs(z, x, beam_angles, log)
+    grid = _check_grid(grid)
+    _check_inside(grid, x[..., :2], "x")  # here, so that the message names x, not "poses"
     z_star = ray_cast(grid, x, angles, p.max_range, method=method)
     lp = _mixture(z, z_star, p, log=True).sum(axis=-1)
     return check.scalar_or_array(lp if log else np.exp(lp))
@@ -727,10 +729,16 @@ class EMInfo:
     responsibilities: np.ndarray = field(repr=False)
 
 
+def _weighted(lc, lw):
+    """``lc + lw`` with a zero weight's term -inf also where ``lc`` is +inf (0 · ∞ = 0)."""
+    with np.errstate(invalid="ignore"):
+        return np.where(np.isneginf(lw), -np.inf, lc + lw)
+
+
 def _mean_log_likelihood(lc, lw, at_max):
     """Mean log-likelihood per reading: the log density below z_max, log z_max at it."""
     with np.errstate(divide="ignore"):
-        ll = np.where(at_max, lw[2], _logsumexp(lc + lw, axis=-1))
+        ll = np.where(at_max, lw[2], _logsumexp(_weighted(lc, lw), axis=-1))
     return float(np.mean(ll)) if not np.isneginf(ll).any() else -np.inf
 
 
@@ -741,13 +749,18 @@ def _responsibilities(lc, lw, at_max, e_step):
         # the point mass p_max = 1 added to densities.
         a = lc
     else:
-        a = lc + lw
+        a = _weighted(lc, lw)
         # A reading at z_max is the point mass: only p_max has mass there.
         a = np.where(at_max[:, None], np.array([-np.inf, -np.inf, 0.0, -np.inf]), a)
     norm = _logsumexp(a, axis=-1)
     ok = np.isfinite(norm)
     e = np.zeros_like(a)
     e[ok] = np.exp(a[ok] - norm[ok, None])
+    # A reading at z = z* = 0 is p_short's point mass (+inf): it explains the reading alone.
+    point = np.isposinf(norm)
+    if point.any():
+        mass = np.isposinf(a[point])
+        e[point] = mass / mass.sum(axis=-1, keepdims=True)
     return e
 
 
@@ -784,7 +797,10 @@ def _fit_lambda(e, z, z_star, max_range, m_step):
 
     The MLE solves Σ e_i (1/λ − z_i − z*_i / (exp(λ z*_i) − 1)) = 0, whose left side
     decreases in λ; if it is negative already as λ → 0 (the short readings are not
-    biased towards 0) the MLE is the boundary and λ = 1e-6/z_max is returned.
+    biased towards 0) the MLE is the boundary and λ = 1e-6/z_max is returned; if it is
+    still positive at λ = 1e9/z_max (the short readings all at 0, where the MLE is
+    infinite: a point mass at 0) that bound is returned. The bracket search therefore
+    takes at most 18 doublings of log λ's step.
     """
     w = (e > 1e-12) & (z_star > 0)
     ew, zw, zsw = e[w], z[w], z_star[w]
@@ -798,14 +814,17 @@ def _fit_lambda(e, z, z_star, max_range, m_step):
 
     def g(log_lam):
         lam = np.exp(log_lam)
-        return total / lam - np.sum(ew * zw) - np.sum(ew * zsw / np.expm1(lam * zsw))
+        with np.errstate(over="ignore"):  # exp(λ z*) beyond float64: its term is 0
+            return total / lam - np.sum(ew * zw) - np.sum(ew * zsw / np.expm1(lam * zsw))
 
-    lo = np.log(1e-6 / max_range)
+    lo, top = np.log(1e-6 / max_range), np.log(1e9 / max_range)
     if g(lo) <= 0:
         return float(np.exp(lo))
-    hi = max(np.log(lam_book), lo) + 1.0
-    while g(hi) > 0:
-        hi += 2.0
+    hi = min(max(np.log(lam_book), lo) + 1.0, top)
+    while g(hi) > 0:  # at most (top - lo) / 2 + 1 = 18 steps
+        if hi == top:
+            return float(np.exp(top))
+        hi = min(hi + 2.0, top)
     return float(np.exp(brentq(g, lo, hi, xtol=1e-12)))
 
 
@@ -884,6 +903,7 @@ def learn_intrinsic_parameters(
     m_step = check.choice(m_step, "m_step", ("exact", "book"))
     tol = check.positive_scalar(tol, "tol")
     max_iter = check.count(max_iter, "max_iter", minimum=1)
+    full_output = check.flag(full_output, "full_output")
     at_max = z >= max_range
     if init is None:
         dev = np.abs(z - z_star)[~at_max]

@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _validation as check
 from .angles import wrap_angle
-from .distributions import sample_normal_distribution
+from .distributions import _sample_exact_normal
 from .motion import sample_motion_model_velocity, velocity_motion
 from .sensors import landmark_measurement
 
@@ -114,7 +114,10 @@ def grid_landmarks(nx, ny, spacing, origin=(0.0, 0.0), signatures=None):
     m : ndarray, shape (nx·ny, 3)
     """
     nx, ny = check.count(nx, "nx", 1), check.count(ny, "ny", 1)
-    sp = np.broadcast_to(check.finite(spacing, "spacing"), (2,))
+    sp = check.finite(spacing, "spacing")
+    if sp.shape not in ((), (1,), (2,)):
+        raise ValueError(f"spacing must be one value or (along x, along y), got shape {sp.shape}")
+    sp = np.broadcast_to(sp, (2,))
     if np.any(sp <= 0):
         raise ValueError(f"spacing must be > 0, got {spacing!r}")
     ox, oy = check.vectors(origin, "origin", 2, "x, y")
@@ -147,9 +150,7 @@ def random_landmarks(n, bounds, *, min_distance=0.0, rng=None, signatures=None):
     xmin, xmax, ymin, ymax = check.vectors(bounds, "bounds", 4, "xmin, xmax, ymin, ymax")
     if not (xmax > xmin and ymax > ymin):
         raise ValueError(f"bounds must satisfy xmin < xmax and ymin < ymax, got {bounds!r}")
-    min_distance = float(check.finite(min_distance, "min_distance"))
-    if min_distance < 0:
-        raise ValueError(f"min_distance must be >= 0, got {min_distance!r}")
+    min_distance = check.in_range(min_distance, "min_distance", 0.0, np.inf)
     rng = check.rng(rng)
     pts = np.empty((0, 2))
     for _ in range(1000):
@@ -256,11 +257,11 @@ def simulate_run(
     sig = check.finite(sigmas, "sigmas")
     if sig.shape != (3,) or np.any(sig < 0):
         raise ValueError(f"sigmas must be three standard deviations >= 0, got {sigmas!r}")
-    max_range = float(max_range)
-    if not max_range > 0:
-        raise ValueError(f"max_range must be > 0, got {max_range!r}")
-    fov = float(fov)
-    if not 0 < fov <= np.pi:
+    max_range = _scalar(check.as_float_array(max_range, "max_range"), "max_range")
+    if not max_range > 0:  # inf (the default: no limit) is allowed, NaN is not
+        raise ValueError(f"max_range must be > 0 (inf: no limit), got {max_range!r}")
+    fov = check.in_range(fov, "fov", 0.0, np.pi)
+    if fov == 0:
         raise ValueError(f"fov must lie in (0, π], got {fov!r}")
     rng = check.rng(rng)
 
@@ -270,7 +271,7 @@ def simulate_run(
     # heading 0), then chained: the motion is rotation- and translation-equivariant and,
     # with γ = 0, turns the heading by ω̂Δt whatever the start pose.
     local = sample_motion_model_velocity(
-        controls, np.zeros(3), dt, alpha6, sample=_exact_normal, rng=rng
+        controls, np.zeros(3), dt, alpha6, sample=_sample_exact_normal, rng=rng
     )
     poses = _chain(x0, local)
     odo = _chain(x0, velocity_motion(np.zeros(3), controls, dt))
@@ -300,7 +301,3 @@ def _chain(x0: np.ndarray, local: np.ndarray) -> np.ndarray:
     out[1:, 1] = x0[1] + np.cumsum(s * local[:, 0] + c * local[:, 1])
     out[1:, 2] = heading[1:]
     return out
-
-
-def _exact_normal(b2, size=None, rng=None):
-    return sample_normal_distribution(b2, size=size, rng=rng, method="exact")

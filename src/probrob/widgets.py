@@ -314,6 +314,7 @@ def parameter_player(
     if not isinstance(label, str) or not label:
         raise ValueError(f"label must be a non-empty string, got {label!r}")
     dpi = BOOK_DPI if dpi is None else check.positive_scalar(dpi, "dpi")
+    fixed_axes = check.flag(fixed_axes, "fixed_axes")
     if fixed_axes and (xlim is None or ylim is None):
         auto_x, auto_y = _player_limits(draw, values, figsize, dpi)
         xlim = auto_x if xlim is None else xlim

@@ -29,13 +29,20 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .. import _validation
+
 __all__ = ["check", "verdict"]
 
 
 def _compare(answer, expected, rtol, atol):
+    # Real numbers only: a string "4", a complex 4+1j or a bool is not a number (numpy
+    # would read "4" as 4.0 and drop the imaginary part of 4+1j, calling both correct).
     try:
-        got = np.asarray(answer, dtype=float)
+        got = _validation.as_float_array(answer, "answer")
+        is_bool = np.asarray(answer).dtype == bool
     except (TypeError, ValueError):
+        is_bool, got = False, None
+    if got is None or is_bool:
         return f"expected a number or an array of numbers, got {type(answer).__name__}"
     want = np.asarray(expected, dtype=float)
     if got.shape != want.shape:
@@ -48,6 +55,35 @@ def _compare(answer, expected, rtol, atol):
         return "too large" if float(got) > float(want) else "too small"
     bad = int(np.sum(~np.isclose(got, want, rtol=rtol, atol=atol)))
     return f"{bad} of {got.size} values are off"
+
+
+def _test_problem(result) -> str | None:
+    """What a ``test`` callable's ``result`` says is wrong, or ``None`` when it says correct.
+
+    Only ``None``, ``True`` (a Python or numpy bool) and a non-empty array of bools that
+    are all true mean correct; a string is the message (an empty one is a plain "no"). Any
+    other result (``False``, ``0``, ``np.array([False])``, a number, an empty array) is
+    "not yet": a falsy value must never pass as correct.
+    """
+    if result is None:
+        return None
+    if isinstance(result, str):
+        return result or "the answer does not pass the check"
+    if isinstance(result, bool | np.bool_):
+        return None if result else "the answer does not pass the check"
+    if isinstance(result, np.ndarray) and result.dtype == bool:
+        if result.size and result.all():
+            return None
+        return "the answer does not pass the check"
+    return (
+        f"the check returned {type(result).__name__} {_short(result)}, not None, True, False "
+        "or a message"
+    )
+
+
+def _short(value, limit: int = 60) -> str:
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 4] + " ..."
 
 
 def check(
@@ -76,7 +112,9 @@ def check(
         The printed message says only "too large" / "too small", never the value.
     test : callable, optional
         ``test(answer)`` for answers checked by a property: returns ``None`` or ``True``
-        when correct, else a string saying what is wrong (or ``False``).
+        (also a numpy bool, or an array of bools all true) when correct, else a string
+        saying what is wrong (or ``False``). Anything else, ``0`` or
+        ``np.array([False])`` included, counts as wrong.
     rtol, atol : float
         Tolerances for ``expected``.
     hint : str, optional
@@ -111,11 +149,7 @@ def verdict(
             if expected is not None:
                 problem = _compare(answer, expected, rtol, atol)
             if problem is None and test is not None:
-                verdict = test(answer)
-                if verdict is False:
-                    problem = "the answer does not pass the check"
-                elif isinstance(verdict, str):
-                    problem = verdict
+                problem = _test_problem(test(answer))
         except Exception as exc:
             problem = f"checking the answer raised {type(exc).__name__}: {exc}"
     if problem is None:
