@@ -1,0 +1,162 @@
+"""The exercise checks of the chapter "Trabalho 4": the right answer passes, typical slips fail."""
+
+import numpy as np
+import pytest
+
+import probrob.exercises.trabalho4 as ch
+from probrob.datasets import load_intel_lab, load_mrclam
+from probrob.exercises import verdict
+from probrob.maps import OccupancyGrid
+from probrob.sensors import (
+    beam_range_finder_model,
+    landmark_model_known_correspondence,
+    learn_intrinsic_parameters,
+    likelihood_field_range_finder_model,
+    sample_beam_mixture,
+)
+
+
+def is_correct(name, answer, test):
+    return verdict(name, answer, test=test) == f"{name}: correct"
+
+
+def assert_not_yet(name, answer, test):
+    line = verdict(name, answer, test=test)
+    assert line.startswith(f"{name}: not yet"), (answer, line)
+
+
+@pytest.fixture(scope="module")
+def intel():
+    d = load_intel_lab()
+    grid = OccupancyGrid.from_scans(d.poses, d.ranges, d.beam_angles, 0.05, max_range=d.max_range)
+    return d, grid
+
+
+@pytest.fixture(scope="module")
+def mrclam():
+    d = load_mrclam()
+    i = ch.MRCLAM_MEASUREMENT
+    truth = d.ground_truth[np.searchsorted(d.ground_truth_t, d.measurement_t[i])]
+    return d.measurements[i], int(d.correspondences[i]), d.landmarks, truth
+
+
+def test_settings_are_the_chapters():
+    assert ch.P_INTEL.max_range == load_intel_lab().max_range
+    assert ch.P_DEMO.weights.sum() == pytest.approx(1.0)
+
+
+def test_exercise_1_point_mass_count():
+    z = sample_beam_mixture(3.0, ch.P_DEMO, size=10_000, rng=1)
+    n = int(np.sum(z == ch.P_DEMO.max_range))
+    assert n != 500  # so that the expected count is not also the drawn one
+    assert is_correct("Exercise 1", (n, 500), ch.exercise_1)
+    assert is_correct("Exercise 1", (float(n), 500.0), ch.exercise_1)
+    for wrong in [
+        (500, 500),  # the expectation given for the draw
+        (0, 500),  # counted readings equal to z* or forgot the point mass
+        (n, 0.05),  # the weight, not a count
+        (n, 10_000 * ch.P_DEMO.z_hit),  # the wrong weight
+        (n, n),  # the draw given as the expectation
+        (int(np.sum(z >= 9.0)), 500),  # counted near r_max, not at it
+        n,  # one number for a pair
+    ]:
+        assert_not_yet("Exercise 1", wrong, ch.exercise_1)
+
+
+def test_exercise_2_underflow(intel):
+    d, grid = intel
+    k = ch.INTEL_SCAN
+    x = d.poses[k] + [0.0, 0.0, np.pi / 2]
+    q_log = beam_range_finder_model(d.ranges[k], x, grid, d.beam_angles, ch.P_INTEL, log=True)
+    q_true = beam_range_finder_model(
+        d.ranges[k], d.poses[k], grid, d.beam_angles, ch.P_INTEL, log=True
+    )
+    assert is_correct("Exercise 2", (0.0, q_log), ch.exercise_2)
+    for wrong in [
+        (0.0, -1000.0),  # any very negative number
+        (0.0, q_true),  # the corrected pose's log-likelihood
+        (0.0, -q_log),  # the wrong sign
+        (0.0, q_log / np.log(10)),  # log10 for ln
+        (1e-300, q_log),  # q_linear that did not underflow
+        (np.exp(q_true), q_log),  # q at the corrected pose
+        (q_log, 0.0),  # swapped
+    ]:
+        assert_not_yet("Exercise 2", wrong, ch.exercise_2)
+
+
+def test_exercise_3_deck_table_6_2():
+    rng = np.random.default_rng(ch.EM_SEED)
+    z_star = rng.uniform(0.5, 9.0, ch.EM_SIZE)
+    z = sample_beam_mixture(z_star, ch.EM_TRUE, rng=rng)
+    deck = learn_intrinsic_parameters(z, z_star, 10.0, e_step="deck", m_step="book").z_hit
+    deck_e = learn_intrinsic_parameters(z, z_star, 10.0, e_step="deck").z_hit
+    em = learn_intrinsic_parameters(z, z_star, 10.0).z_hit
+    assert is_correct("Exercise 3", deck, ch.exercise_3)
+    for wrong in [deck_e, em, 0.7, 0.0, round(deck, 3)]:
+        assert_not_yet("Exercise 3", wrong, ch.exercise_3)
+
+
+def test_exercise_4_likelihood_field_drop(intel):
+    d, grid = intel
+    k = ch.INTEL_SCAN
+    x = d.poses[k]
+
+    def ll(p, model=likelihood_field_range_finder_model):
+        return model(d.ranges[k], p, grid, d.beam_angles, ch.P_INTEL, log=True)
+
+    ahead = x + [0.1 * np.cos(x[2]), 0.1 * np.sin(x[2]), 0.0]
+    drop = ll(x) - ll(ahead)
+    assert drop > 0
+    assert is_correct("Exercise 4", drop, ch.exercise_4)
+    for wrong in [
+        -drop,  # moved minus corrected
+        ll(x) - ll(x + [0.1, 0.0, 0.0]),  # 10 cm along x, not along the heading
+        ll(x, beam_range_finder_model) - ll(ahead, beam_range_finder_model),  # beam model
+        np.exp(-drop),  # a likelihood ratio, not nats
+        0.0,
+    ]:
+        assert_not_yet("Exercise 4", wrong, ch.exercise_4)
+
+
+def test_exercise_5_sigma_or_variance(mrclam):
+    f, c, m, truth = mrclam
+    sig = np.asarray(ch.LANDMARK_SIGMAS)
+
+    def lq(s, pose=truth):
+        return landmark_model_known_correspondence(f, c, pose, m, s, log=True)
+
+    right, deck = lq(sig), lq(np.sqrt(sig))
+    assert is_correct("Exercise 5", (right, deck), ch.exercise_5)
+    for wrong in [
+        (deck, right),  # swapped
+        (right, lq(sig**2)),  # squared the σ instead (the other direction)
+        (right, right),  # no difference
+        (np.exp(right), np.exp(deck)),  # likelihoods, not logs
+        (lq(sig, truth * [1, 1, 0]), deck),  # heading left out (errata L2)
+    ]:
+        assert_not_yet("Exercise 5", wrong, ch.exercise_5)
+
+
+def test_exercise_6_heading(mrclam):
+    f, c, m, truth = mrclam
+    gamma = np.arctan2(truth[1] - m[c, 1], truth[0] - m[c, 0])
+    theta = float(np.mod(gamma - np.pi - f[1] + np.pi, 2 * np.pi) - np.pi)
+    assert abs(theta - truth[2]) < 0.05  # the Vicon heading agrees with the feature
+    assert is_correct("Exercise 6", theta, ch.exercise_6)
+    for wrong in [
+        theta + 2 * np.pi,  # not wrapped (same direction, outside [-π, π))
+        float(np.mod(gamma - np.pi + f[1] + np.pi, 2 * np.pi) - np.pi),  # + φ for - φ
+        float(np.mod(gamma - f[1] + np.pi, 2 * np.pi) - np.pi),  # forgot the π
+        np.rad2deg(theta),  # degrees
+        0.0,
+    ]:
+        assert_not_yet("Exercise 6", wrong, ch.exercise_6)
+
+
+def test_checks_never_raise_on_nonsense():
+    for test in (ch.exercise_1, ch.exercise_2, ch.exercise_5):
+        assert "not yet" in verdict("Ex", "text", test=test)
+        assert "not yet" in verdict("Ex", (1, 2, 3), test=test)
+    for test in (ch.exercise_3, ch.exercise_4, ch.exercise_6):
+        assert "not yet" in verdict("Ex", "text", test=test)
+        assert "not yet" in verdict("Ex", float("nan"), test=test)
