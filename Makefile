@@ -24,7 +24,8 @@ export PYTHONHASHSEED := 0
 # NB: MPLBACKEND=Agg is set only for plain Python runs (unit tests, benchmarks). Exported to a
 # Jupyter kernel it would replace the inline backend and the notebooks would show no figures.
 
-.PHONY: help venv book test lint format pytest nbval execute lab bench browser-check check-offline \
+.PHONY: help venv book test lint format pytest nbval execute lab lab-check bench browser-check \
+        check-offline \
         clean distclean
 
 help:
@@ -33,6 +34,7 @@ help:
 	@echo "make execute       re-execute every notebook and store its outputs in place"
 	@echo "make bench         run the speed benchmarks (benchmarks/bench_motion.py)"
 	@echo "make lab           JupyterLab on notebooks/ (live sliders; installs it into .venv once)"
+	@echo "make lab-check     open every notebook in JupyterLab (headless Chromium), Run All, check"
 	@echo "make format        ruff format + ruff check --fix (code and notebooks)"
 	@echo "make browser-check open the built chapters in headless Chromium and check them"
 	@echo "make venv          create/update .venv only; make clean / make distclean (also .venv)"
@@ -98,16 +100,12 @@ format: $(STAMP)
 
 # ---- notebooks and benchmarks ------------------------------------------------------------
 # Executes each notebook in its own folder and stores the outputs (what nbval compares against),
-# then drops the volatile metadata that would change on every run: per-cell execution timestamps
-# and the widget state (fresh model ids each run; the live sliders are re-created on "Run all").
+# then stores it as JupyterLab writes it, without the metadata that changes on every run
+# (.ci/normalize_notebooks.py: the venv's kernelspec, no widget state, no execution timestamps,
+# no stored {eval} values). `python -c "$STRIP_VOLATILE" NB...` runs that script.
 define STRIP_VOLATILE
-import sys, nbformat
-for path in sys.argv[1:]:
-    nb = nbformat.read(path, as_version=4)
-    for cell in nb.cells:
-        cell.metadata.pop("execution", None)
-    nb.metadata.pop("widgets", None)
-    nbformat.write(nb, path)
+import runpy, sys
+runpy.run_path(".ci/normalize_notebooks.py", run_name="__main__")
 endef
 export STRIP_VOLATILE
 
@@ -118,12 +116,26 @@ execute: $(STAMP)
 	done
 	$(BIN)/python -c "$$STRIP_VOLATILE" $(NOTEBOOKS)
 
-# JupyterLab is not part of requirements.txt (the book and the tests do not need it); `make lab`
-# adds it to .venv on first use.
-JUPYTERLAB := jupyterlab==4.6.6
-lab: $(STAMP)
-	@test -x $(BIN)/jupyter-lab || $(BIN)/python -m pip install --quiet --no-input "$(JUPYTERLAB)"
+# JupyterLab and jupyterlab-myst (which renders the chapters' MyST: {eval}, {math}, {eq},
+# admonitions) are not part of requirements.txt (the book and the tests do not need them);
+# `make lab` adds requirements-lab.txt to .venv on first use (a version pair that
+# `jupyter labextension list` calls compatible; see that file).
+LAB_STAMP := $(VENV)/.lab-installed-stamp
+$(LAB_STAMP): requirements-lab.txt $(STAMP)
+	$(BIN)/python -m pip install --quiet --no-input -r requirements.txt -r requirements-lab.txt
+	$(BIN)/python -m pip check
+	$(BIN)/jupyter labextension list
+	@touch $@
+
+lab: $(LAB_STAMP)
 	$(BIN)/jupyter lab $(if $(filter 0,$(shell id -u)),--allow-root) notebooks/
+
+# A real client: JupyterLab (headless, token-less, on a free port) driven by Chromium opens each
+# notebook, checks it is not marked modified on opening, runs all cells and fails on raw MyST,
+# an {eval} without a value, a cell error, a blank player or a console error. The fixture
+# (.ci/fixtures/myst_roles.ipynb) shows every MyST construct the chapters use.
+lab-check: $(LAB_STAMP)
+	$(BIN)/python .ci/jupyterlab_check.py --self-test .ci/fixtures/myst_roles.ipynb $(NOTEBOOKS)
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_motion.py
