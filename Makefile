@@ -21,6 +21,13 @@ HTML := _build/html
 export JUPYTER_PATH := $(CURDIR)/$(VENV)/share/jupyter
 export PIP_DISABLE_PIP_VERSION_CHECK := 1
 export PYTHONHASHSEED := 0
+# A stalled kernel (idle, its cell never run) fails fast, naming the notebook and the cell: every
+# runner of the notebooks (jupyter execute, nbval, and the book: execute.timeout in _config.yml,
+# kept equal by tests/test_tooling.py) gives a cell CELL_TIMEOUT seconds and a kernel
+# KERNEL_STARTUP_TIMEOUT seconds to start. The slowest real cell took 19 s on a loaded 2-core
+# machine (load average ~6; trabalho3, cell 43) and a kernel at most 2.4 s to start.
+CELL_TIMEOUT := 120
+KERNEL_STARTUP_TIMEOUT := 60
 # NB: MPLBACKEND=Agg is set only for plain Python runs (unit tests, benchmarks). Exported to a
 # Jupyter kernel it would replace the inline backend and the notebooks would show no figures.
 
@@ -92,7 +99,9 @@ export CHECK_EXECUTED
 
 nbval: $(STAMP)
 	$(BIN)/python -c "$$CHECK_EXECUTED" $(NOTEBOOKS)
-	$(BIN)/python -m pytest --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg notebooks/
+	$(BIN)/python -m pytest --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
+	  --nbval-cell-timeout=$(CELL_TIMEOUT) --nbval-kernel-startup-timeout=$(KERNEL_STARTUP_TIMEOUT) \
+	  notebooks/
 
 format: $(STAMP)
 	$(BIN)/ruff format .
@@ -112,7 +121,8 @@ export STRIP_VOLATILE
 execute: $(STAMP)
 	@for nb in $(NOTEBOOKS); do \
 	  echo "jupyter execute --inplace $$nb"; \
-	  $(BIN)/jupyter execute --inplace --timeout 600 "$$nb"; \
+	  $(BIN)/jupyter execute --inplace --timeout $(CELL_TIMEOUT) \
+	    --startup_timeout $(KERNEL_STARTUP_TIMEOUT) "$$nb"; \
 	done
 	$(BIN)/python -c "$$STRIP_VOLATILE" $(NOTEBOOKS)
 

@@ -63,12 +63,17 @@ RAW_MYST = [
     "{figure}",
 ]
 
+# Messages jupyterlab-myst logs with console.error about the markup it rendered.
+MYST_DIAGNOSTICS = ["Legacy syntax used for link target", "Cross reference target was not found"]
+
 # The faults planted in the broken fixture, each of which the check must report (--self-test).
 BROKEN_FIXTURE = ROOT / ".ci" / "fixtures" / "broken" / "myst_broken.ipynb"
 BROKEN_FAULTS = [
     "marked modified on open",
     "raw MyST in markdown cell 2: ...source: {glue:text}`key`",
     "{eval} not rendered in markdown cell 2",
+    "references that JupyterLab cannot resolve (shown as a warning sign and the label; "
+    "cells [2]): errata-x1",
     "player 2 blank",
     "error in cell 5: ZeroDivisionError",
 ]
@@ -161,6 +166,7 @@ JS_SURVEY = r"""
   };
   const cells = panel.content.widgets;
   const raw = [], unrendered = [], errors = [], unrun = [], evals = [], badEvals = [];
+  const unresolved = [];
   let markdown = 0;
   cells.forEach((c, i) => {
     const src = c.model.sharedModel.getSource();
@@ -176,6 +182,11 @@ JS_SURVEY = r"""
       // value shows its key): found in the source.
       for (const m of src.matchAll(/\{glue(:[a-z]+)?\}`[^`]*`/g)) {
         raw.push({cell: i, text: "source: " + m[0] + " (jupyterlab-myst shows only its key)"});
+      }
+      // A reference jupyterlab-myst cannot resolve (e.g. to a label on another page) shows as
+      // a warning sign and the bare label.
+      for (const el of c.node.querySelectorAll('[title="Cross Reference Not Found"]')) {
+        unresolved.push({cell: i, label: el.textContent.trim()});
       }
       const n = (src.match(/\{eval\}`/g) || []).length;
       if (n) {
@@ -207,7 +218,7 @@ JS_SURVEY = r"""
                   h: Math.round(r.height), natural: im.naturalWidth});
   }
   return {cells: cells.length, markdown: markdown, raw: raw, unrendered: unrendered,
-          errors: errors, unrun: unrun, evalRoles: evals.reduce((a, b) => a + b, 0),
+          errors: errors, unrun: unrun, unresolved: unresolved, evalRoles: evals.reduce((a, b) => a + b, 0),
           badEvals: badEvals, players: players};
 })(%s)
 """
@@ -438,6 +449,13 @@ def check_notebook(browser: Browser, lab: Lab, name: str, args) -> list[str]:
         )
         for r in s["raw"]:
             failures.append(f"raw MyST in markdown cell {r['cell']}: ...{r['text']}...")
+        labels = sorted({u["label"] for u in s["unresolved"]})
+        if labels:
+            failures.append(
+                f"{len(s['unresolved'])} references that JupyterLab cannot resolve (shown as a "
+                f"warning sign and the label; cells {sorted({u['cell'] for u in s['unresolved']})}"
+                f"): {', '.join(labels)}"
+            )
         for b in s["badEvals"]:
             failures.append(
                 f"{{eval}} not rendered in markdown cell {b['cell']}: {b['roles']} "
@@ -461,11 +479,18 @@ def check_notebook(browser: Browser, lab: Lab, name: str, args) -> list[str]:
         print(f"  console: {len(console)} errors, {len(warnings)} warnings")
         for w in warnings[: args.show_warnings]:
             print(f"    warning: {w}")
-        # one failure per distinct message line (a renderer may log the same line per render)
+        # one failure per distinct message line (a renderer may log the same line per render);
+        # jupyterlab-myst's own diagnostics are reported, not failed: an unresolved reference
+        # fails above, from what the reader sees, and a "legacy" [text](label) link works.
         distinct = sorted(
             {ln.strip()[:300] for c in console for ln in c.splitlines() if ln.strip()}
         )
-        failures += [f"console: {c}" for c in distinct]
+        myst = [c for c in distinct if any(k in c for k in MYST_DIAGNOSTICS)]
+        if myst:
+            print(f"  jupyterlab-myst diagnostics ({len(myst)} distinct):")
+            for c in myst:
+                print(f"    {c.removeprefix('console.error: ')}")
+        failures += [f"console: {c}" for c in distinct if c not in myst]
         failures += [
             f"console: shared-module version mismatch: {w}"
             for w in warnings
