@@ -12,6 +12,10 @@ For each notebook, in place:
   * ``metadata.widgets`` (the ipywidgets state: fresh model ids on every run; the live sliders
     are re-created by *Run All*) is dropped;
   * each cell's ``metadata.execution`` (execution timestamps) is dropped;
+  * the random 32-hex ids in code cells' outputs (ipywidgets model ids, the ids with which
+    ``to_jshtml`` names a player's elements: ``uuid4().hex``) are replaced by ids derived from
+    their order in the notebook, the same id by the same one everywhere, so that re-executing
+    an unchanged notebook leaves its file unchanged (nbval masks these ids in any case);
   * each markdown cell's ``metadata.user_expressions`` (the ``{eval}`` values jupyterlab-myst
     stores after a run in JupyterLab; they would go stale when the code changes, and the book
     evaluates the roles itself) is dropped.
@@ -21,6 +25,9 @@ A notebook that is already normalised is not rewritten. ``normalize(nb)`` is the
 
 from __future__ import annotations
 
+import hashlib
+import json
+import re
 import sys
 
 import nbformat
@@ -37,11 +44,34 @@ def kernelspec() -> dict:
     }
 
 
+# 32 hex digits not inside a longer hex run: a widget model id ("model_id": "<hex>") or a
+# to_jshtml id glued to its prefix (_anim_img<hex>, anim<hex>). (A 32-long pure-hex run inside
+# base64 image data would have odds of about 4**-32 per position.)
+HEX_ID = re.compile(r"(?<![0-9a-f])[0-9a-f]{32}(?![0-9a-f])")
+
+
+def _stable_ids(nb) -> None:
+    """Replace every 32-hex id in the outputs by one numbered in order of first appearance."""
+    ids: dict[str, str] = {}
+
+    def stable(m: re.Match) -> str:
+        if m.group(0) not in ids:
+            ids[m.group(0)] = hashlib.sha256(f"probrob-id-{len(ids)}".encode()).hexdigest()[:32]
+        return ids[m.group(0)]
+
+    for cell in nb.cells:
+        if cell.cell_type == "code" and cell.outputs:
+            text = json.dumps(cell.outputs)
+            if HEX_ID.search(text):
+                cell.outputs = nbformat.from_dict(json.loads(HEX_ID.sub(stable, text)))
+
+
 def normalize(nb) -> bool:
     """Normalise ``nb`` (an nbformat NotebookNode) in place; return True if it changed."""
     before = nbformat.writes(nb)
     nb.metadata["kernelspec"] = kernelspec()
     nb.metadata.pop("widgets", None)
+    _stable_ids(nb)
     for cell in nb.cells:
         cell.metadata.pop("execution", None)
         if cell.cell_type == "markdown":
