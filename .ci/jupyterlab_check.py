@@ -166,7 +166,7 @@ JS_SURVEY = r"""
   };
   const cells = panel.content.widgets;
   const raw = [], unrendered = [], errors = [], unrun = [], evals = [], badEvals = [];
-  const unresolved = [];
+  const unresolved = [], deadLinks = [];
   let markdown = 0;
   cells.forEach((c, i) => {
     const src = c.model.sharedModel.getSource();
@@ -187,6 +187,10 @@ JS_SURVEY = r"""
       // a warning sign and the bare label.
       for (const el of c.node.querySelectorAll('[title="Cross Reference Not Found"]')) {
         unresolved.push({cell: i, label: el.textContent.trim()});
+      }
+      // ... and one with its own text, {ref}`text <label>`, as that text on a link to "#".
+      for (const el of c.node.querySelectorAll('a.hover-link[href="#"]')) {
+        deadLinks.push({cell: i, text: el.textContent.trim()});
       }
       const n = (src.match(/\{eval\}`/g) || []).length;
       if (n) {
@@ -218,7 +222,7 @@ JS_SURVEY = r"""
                   h: Math.round(r.height), natural: im.naturalWidth});
   }
   return {cells: cells.length, markdown: markdown, raw: raw, unrendered: unrendered,
-          errors: errors, unrun: unrun, unresolved: unresolved, evalRoles: evals.reduce((a, b) => a + b, 0),
+          errors: errors, unrun: unrun, unresolved: unresolved, deadLinks: deadLinks, evalRoles: evals.reduce((a, b) => a + b, 0),
           badEvals: badEvals, players: players};
 })(%s)
 """
@@ -455,6 +459,14 @@ def check_notebook(browser: Browser, lab: Lab, name: str, args) -> list[str]:
                 f"{len(s['unresolved'])} references that JupyterLab cannot resolve (shown as a "
                 f"warning sign and the label; cells {sorted({u['cell'] for u in s['unresolved']})}"
                 f"): {', '.join(labels)}"
+            )
+        if s["deadLinks"]:
+            texts = sorted({d["text"] for d in s["deadLinks"]})
+            print(
+                f"  note: {len(s['deadLinks'])} references with their own text lead nowhere in "
+                f"JupyterLab (a label on another page; the web book resolves them): "
+                + ", ".join(texts[:12])
+                + (" ..." if len(texts) > 12 else "")
             )
         for b in s["badEvals"]:
             failures.append(
