@@ -118,10 +118,16 @@ runpy.run_path(".ci/normalize_notebooks.py", run_name="__main__")
 endef
 export STRIP_VOLATILE
 
+# `jupyter execute` with _ext/probrob_zmq_wakeup.py installed (see there: without it a kernel
+# reply can sit unread in the client's socket until the cell timeout).
+JUPYTER_EXECUTE := $(BIN)/python -c 'import sys; sys.path.insert(0, "_ext"); \
+  import probrob_zmq_wakeup; probrob_zmq_wakeup.install(); \
+  from nbclient.cli import main; sys.argv[0] = "jupyter-execute"; main()'
+
 execute: $(STAMP)
 	@for nb in $(NOTEBOOKS); do \
-	  echo "jupyter execute --inplace $$nb"; \
-	  $(BIN)/jupyter execute --inplace --timeout $(CELL_TIMEOUT) \
+	  echo "jupyter execute --inplace $$nb  (with _ext/probrob_zmq_wakeup.py)"; \
+	  $(JUPYTER_EXECUTE) --inplace --timeout $(CELL_TIMEOUT) \
 	    --startup_timeout $(KERNEL_STARTUP_TIMEOUT) "$$nb"; \
 	done
 	$(BIN)/python -c "$$STRIP_VOLATILE" $(NOTEBOOKS)

@@ -100,7 +100,17 @@ def main(argv=None) -> int:
     ap.add_argument("--startup-timeout", type=float, default=60.0)
     ap.add_argument("--stall", type=float, default=30.0, help="wall seconds of an idle cell")
     ap.add_argument("--log", type=Path, help="append one JSON line per execution")
+    ap.add_argument(
+        "--no-wakeup-fix",
+        action="store_true",
+        help="do not install _ext/probrob_zmq_wakeup.py (to reproduce the stall)",
+    )
     args = ap.parse_args(argv)
+    if not args.no_wakeup_fix:
+        sys.path.insert(0, str(ROOT / "_ext"))
+        import probrob_zmq_wakeup
+
+        probrob_zmq_wakeup.install()
     notebooks = args.notebooks or sorted((ROOT / "notebooks").glob("*.ipynb"))
     results = []
     for loop in range(args.loops):

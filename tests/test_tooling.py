@@ -24,7 +24,7 @@ def test_cell_timeout_is_the_same_for_every_runner():
     assert config["execute"]["timeout"] == timeout
     assert "--nbval-cell-timeout=$(CELL_TIMEOUT)" in MAKEFILE
     assert "--nbval-kernel-startup-timeout=$(KERNEL_STARTUP_TIMEOUT)" in MAKEFILE
-    assert "jupyter execute --inplace --timeout $(CELL_TIMEOUT)" in MAKEFILE
+    assert "$(JUPYTER_EXECUTE) --inplace --timeout $(CELL_TIMEOUT)" in MAKEFILE
     assert "--startup_timeout $(KERNEL_STARTUP_TIMEOUT)" in MAKEFILE
     # far below the 600 s of the stall it must catch, far above the slowest real cell (19 s)
     assert 60 <= timeout <= 300
