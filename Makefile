@@ -43,7 +43,7 @@ help:
 	@echo "make lab           JupyterLab on notebooks/ (live sliders; installs it into .venv once)"
 	@echo "make lab-check     open every notebook in JupyterLab (headless Chromium), Run All, check"
 	@echo "make format        ruff format + ruff check --fix (code and notebooks)"
-	@echo "make browser-check open the built chapters in headless Chromium and check them"
+	@echo "make browser-check open every page of the built book in headless Chromium and check it"
 	@echo "make venv          create/update .venv only; make clean / make distclean (also .venv)"
 
 $(STAMP): requirements.txt pyproject.toml
