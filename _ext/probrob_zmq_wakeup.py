@@ -12,8 +12,9 @@ wall, 0.27 s of kernel CPU; the same cell takes 0.4-0.8 s otherwise).
 
 :func:`install` makes ``get_msg`` wait in slices of at most :data:`SLICE` seconds, each ending
 in that same re-check, so a stranded reply is read within a second instead of at the timeout;
-the overall timeout is unchanged. Each recovery is counted in :data:`RECOVERED` and reported on
-stderr. Used by the book build (a Sphinx extension, listed in ``_config.yml``) and by
+the overall timeout is unchanged. Each message found by such a re-check is counted in
+:data:`RECOVERED` and reported on stderr (one that arrived in the last millisecond of a slice is
+counted too: the count is an upper bound of the stalls avoided). Used by the book build (a Sphinx extension, listed in ``_config.yml``) and by
 ``make execute`` (``.ci/execute.py``).
 """
 
@@ -50,8 +51,10 @@ def install() -> None:
                     waited = time.monotonic() - started
                     RECOVERED.append(waited)
                     print(
-                        f"[probrob_zmq_wakeup] a kernel message was in the socket but not "
-                        f"signalled; read after {waited:.1f} s instead of at the timeout",
+                        f"[probrob_zmq_wakeup] a kernel message read by the re-check at the end "
+                        f"of a {SLICE:g}-s wait, {waited:.1f} s into get_msg (not signalled to "
+                        "the event loop, unless it arrived in the last millisecond); without "
+                        "the re-check it would have been read at the timeout",
                         file=sys.stderr,
                         flush=True,
                     )
