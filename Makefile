@@ -24,7 +24,7 @@ export PYTHONHASHSEED := 0
 # A stalled kernel (idle, its cell never run) fails fast, naming the notebook and the cell: every
 # runner of the notebooks (jupyter execute, nbval, and the book: execute.timeout in _config.yml,
 # kept equal by tests/test_tooling.py) gives a cell CELL_TIMEOUT seconds and a kernel
-# KERNEL_STARTUP_TIMEOUT seconds to start. Over 89 measured executions on a loaded 2-core machine
+# KERNEL_STARTUP_TIMEOUT seconds to start. Over 94 measured executions on a loaded 2-core machine
 # (load average 6-7) the slowest real cell took 24.7 s (trabalho3, cell 43) and a kernel at most
 # 2.7 s to start.
 CELL_TIMEOUT := 120
