@@ -21,10 +21,19 @@ HTML := _build/html
 export JUPYTER_PATH := $(CURDIR)/$(VENV)/share/jupyter
 export PIP_DISABLE_PIP_VERSION_CHECK := 1
 export PYTHONHASHSEED := 0
+# A stalled kernel (idle, its cell never run) fails fast, naming the notebook and the cell: every
+# runner of the notebooks (jupyter execute, nbval, and the book: execute.timeout in _config.yml,
+# kept equal by tests/test_tooling.py) gives a cell CELL_TIMEOUT seconds and a kernel
+# KERNEL_STARTUP_TIMEOUT seconds to start. Over 94 measured executions on a loaded 2-core machine
+# (load average 6-7) the slowest real cell took 24.7 s (trabalho3, cell 43) and a kernel at most
+# 2.7 s to start.
+CELL_TIMEOUT := 120
+KERNEL_STARTUP_TIMEOUT := 60
 # NB: MPLBACKEND=Agg is set only for plain Python runs (unit tests, benchmarks). Exported to a
 # Jupyter kernel it would replace the inline backend and the notebooks would show no figures.
 
-.PHONY: help venv book test lint format pytest nbval execute lab bench browser-check check-offline \
+.PHONY: help venv book test lint format pytest nbval execute lab lab-check bench browser-check \
+        check-offline \
         clean distclean
 
 help:
@@ -33,8 +42,9 @@ help:
 	@echo "make execute       re-execute every notebook and store its outputs in place"
 	@echo "make bench         run the speed benchmarks (benchmarks/bench_*.py)"
 	@echo "make lab           JupyterLab on notebooks/ (live sliders; installs it into .venv once)"
+	@echo "make lab-check     open every notebook in JupyterLab (headless Chromium), Run All, check"
 	@echo "make format        ruff format + ruff check --fix (code and notebooks)"
-	@echo "make browser-check open the built chapters in headless Chromium and check them"
+	@echo "make browser-check open every page of the built book in headless Chromium and check it"
 	@echo "make venv          create/update .venv only; make clean / make distclean (also .venv)"
 
 $(STAMP): requirements.txt pyproject.toml
@@ -90,7 +100,9 @@ export CHECK_EXECUTED
 
 nbval: $(STAMP)
 	$(BIN)/python -c "$$CHECK_EXECUTED" $(NOTEBOOKS)
-	$(BIN)/python -m pytest --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg notebooks/
+	$(BIN)/python -m pytest --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
+	  --nbval-cell-timeout=$(CELL_TIMEOUT) --nbval-kernel-startup-timeout=$(KERNEL_STARTUP_TIMEOUT) \
+	  notebooks/
 
 format: $(STAMP)
 	$(BIN)/ruff format .
@@ -98,32 +110,49 @@ format: $(STAMP)
 
 # ---- notebooks and benchmarks ------------------------------------------------------------
 # Executes each notebook in its own folder and stores the outputs (what nbval compares against),
-# then drops the volatile metadata that would change on every run: per-cell execution timestamps
-# and the widget state (fresh model ids each run; the live sliders are re-created on "Run all").
+# then stores it as JupyterLab writes it, without the metadata that changes on every run
+# (.ci/normalize_notebooks.py: the venv's kernelspec, no widget state, no execution timestamps,
+# no stored {eval} values). `python -c "$STRIP_VOLATILE" NB...` runs that script.
 define STRIP_VOLATILE
-import sys, nbformat
-for path in sys.argv[1:]:
-    nb = nbformat.read(path, as_version=4)
-    for cell in nb.cells:
-        cell.metadata.pop("execution", None)
-    nb.metadata.pop("widgets", None)
-    nbformat.write(nb, path)
+import runpy, sys
+runpy.run_path(".ci/normalize_notebooks.py", run_name="__main__")
 endef
 export STRIP_VOLATILE
 
+# `jupyter execute` with _ext/probrob_zmq_wakeup.py installed (see there: without it a kernel
+# reply can sit unread in the client's socket until the cell timeout).
+JUPYTER_EXECUTE := $(BIN)/python -c 'import sys; sys.path.insert(0, "_ext"); \
+  import probrob_zmq_wakeup; probrob_zmq_wakeup.install(); \
+  from nbclient.cli import main; sys.argv[0] = "jupyter-execute"; main()'
+
 execute: $(STAMP)
 	@for nb in $(NOTEBOOKS); do \
-	  echo "jupyter execute --inplace $$nb"; \
-	  $(BIN)/jupyter execute --inplace --timeout 600 "$$nb"; \
+	  echo "jupyter execute --inplace $$nb  (with _ext/probrob_zmq_wakeup.py)"; \
+	  $(JUPYTER_EXECUTE) --inplace --timeout $(CELL_TIMEOUT) \
+	    --startup_timeout $(KERNEL_STARTUP_TIMEOUT) "$$nb"; \
 	done
 	$(BIN)/python -c "$$STRIP_VOLATILE" $(NOTEBOOKS)
 
-# JupyterLab is not part of requirements.txt (the book and the tests do not need it); `make lab`
-# adds it to .venv on first use.
-JUPYTERLAB := jupyterlab==4.6.6
-lab: $(STAMP)
-	@test -x $(BIN)/jupyter-lab || $(BIN)/python -m pip install --quiet --no-input "$(JUPYTERLAB)"
+# JupyterLab and jupyterlab-myst (which renders the chapters' MyST: {eval}, {math}, {eq},
+# admonitions) are not part of requirements.txt (the book and the tests do not need them);
+# `make lab` adds requirements-lab.txt to .venv on first use (a version pair that
+# `jupyter labextension list` calls compatible; see that file).
+LAB_STAMP := $(VENV)/.lab-installed-stamp
+$(LAB_STAMP): requirements-lab.txt $(STAMP)
+	$(BIN)/python -m pip install --quiet --no-input -r requirements.txt -r requirements-lab.txt
+	$(BIN)/python -m pip check
+	$(BIN)/jupyter labextension list
+	@touch $@
+
+lab: $(LAB_STAMP)
 	$(BIN)/jupyter lab $(if $(filter 0,$(shell id -u)),--allow-root) notebooks/
+
+# A real client: JupyterLab (headless, token-less, on a free port) driven by Chromium opens each
+# notebook, checks it is not marked modified on opening, runs all cells and fails on raw MyST,
+# an {eval} without a value, a cell error, a blank player or a console error. The fixture
+# (.ci/fixtures/myst_roles.ipynb) shows every MyST construct the chapters use.
+lab-check: $(LAB_STAMP)
+	$(BIN)/python .ci/jupyterlab_check.py --self-test .ci/fixtures/myst_roles.ipynb $(NOTEBOOKS)
 
 bench: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_motion.py

@@ -15,7 +15,8 @@ For every page it checks that
   * every live widget redraws when two of its sliders are moved with the keyboard, updates
     within 16 ms and weighs at most 200 kB (``.ci/live_widgets_check.py``);
   * the page loads nothing from outside the local server (no external script, stylesheet, font,
-    image) and throws no JavaScript error;
+    image), throws no JavaScript error, logs no console error or warning (each page is opened
+    as a first visit, with empty local storage), and carries no thebe script;
 and saves screenshots to ``_build/screenshots/<page>.png`` (a page taller than
 ``--max-shot-height`` continues in ``<page>-2.png``, ...).
 
@@ -25,7 +26,8 @@ Only the standard library is used: Chromium is driven through its DevTools proto
 opening index.html would).
 
 Usage:  python .ci/browser_check.py [PAGE.html ...] [--min-players 0] [--file-urls] ...
-PAGE is relative to the HTML folder (default: every notebook chapter listed in _toc.yml).
+PAGE is relative to the HTML folder (default: every page listed in _toc.yml; the minimum counts
+of formulas, plots and players apply to the notebook chapters).
 Exit status 0 only if every page passes.
 """
 
@@ -49,24 +51,18 @@ from live_widgets_check import check_live_widgets
 ROOT = Path(__file__).resolve().parent.parent
 
 
-# sphinx-thebe (always loaded by Jupyter Book 1) adds its config script twice on every page; the
-# second `const` declaration throws. Harmless (thebe is off) and not ours, so it is tolerated.
-KNOWN_JS_ERROR = "Identifier 'THEBE_JS_URL' has already been declared"
-
-
 # --------------------------------------------------------------------------------------------
 # Pages to check
 
 
-def toc_notebook_pages(root: Path) -> list[str]:
-    """Pages (``<file>.html``) of every _toc.yml entry whose source is a notebook."""
+def toc_pages(root: Path) -> list[tuple[str, bool]]:
+    """``(<file>.html, is_notebook)`` for every _toc.yml entry, in order."""
     text = (root / "_toc.yml").read_text(encoding="utf-8")
     files = re.findall(r"^\s*(?:-\s*)?(?:file|root)\s*:\s*[\"']?([^\"'#\s]+)", text, re.M)
     pages = []
     for f in files:
-        stem = f[:-6] if f.endswith(".ipynb") else f
-        if (root / f"{stem}.ipynb").is_file():
-            pages.append(f"{stem}.html")
+        stem = f.removesuffix(".ipynb").removesuffix(".md")
+        pages.append((f"{stem}.html", (root / f"{stem}.ipynb").is_file()))
     return pages
 
 
@@ -199,8 +195,13 @@ class Page(Tab):
             )
 
 
-def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) -> list[str]:
-    """Run every check on one page; return the list of failures (empty = pass)."""
+def check_page(
+    browser: Browser, base_url: str, page: str, shots: Path, args, notebook: bool = True
+) -> list[str]:
+    """Run every check on one page; return the list of failures (empty = pass).
+
+    The minimum counts of formulas, plots and players apply to notebook chapters only; every
+    other check (and the console) applies to every page."""
     failures: list[str] = []
     url = f"{base_url}/{page}"
     target = browser.send("Target.createTarget", {"url": "about:blank"})["targetId"]
@@ -214,6 +215,15 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         "Emulation.setDeviceMetricsOverride",
         {"width": args.width, "height": args.height, "deviceScaleFactor": 1, "mobile": False},
     )
+    # Every page is visited as a first visit (no colour mode stored by an earlier page).
+    with contextlib.suppress(CheckError):
+        p.send(
+            "Storage.clearDataForOrigin",
+            {
+                "origin": base_url if base_url.startswith("http") else "file://",
+                "storageTypes": "local_storage,session_storage",
+            },
+        )
     with browser.cond:
         mark = len(browser.events)
     nav = p.send("Page.navigate", {"url": url})
@@ -235,7 +245,7 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         f"({info['mathElements']} math elements, {info['mathUntypeset']} not typeset, "
         f"{len(info['mjxErrors'])} TeX errors, {info['rawCount']} raw delimiters in the text)"
     )
-    if info["mjx"] < args.min_math:
+    if notebook and info["mjx"] < args.min_math:
         failures.append(f"math: {info['mjx']} typeset formulas, expected >= {args.min_math}")
     if info["mathUntypeset"]:
         failures.append(f"math: {info['mathUntypeset']} math elements were not typeset")
@@ -249,7 +259,7 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         f"  images: {info['plots']} plot images in cell outputs ({info['plotsOk']} rendered), "
         f"{info['images']} <img> on the page, {len(info['broken'])} broken"
     )
-    if info["plotsOk"] < args.min_images:
+    if notebook and info["plotsOk"] < args.min_images:
         failures.append(f"images: {info['plotsOk']} rendered plots, expected >= {args.min_images}")
     if info["broken"]:
         failures.append(f"images: broken {info['broken'][:5]}")
@@ -322,7 +332,7 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         )
         if not ok:
             failures.append(f"player {k + 1}: frames do not change (or do not load)")
-    if info["players"] < args.min_players:
+    if notebook and info["players"] < args.min_players:
         failures.append(
             f"players: {info['players']} to_jshtml players, expected >= {args.min_players}"
         )
@@ -357,7 +367,7 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
     # Network and JavaScript errors, from the events gathered during the whole visit
     with browser.cond:
         events = [e for e in browser.events if e.get("sessionId") == session]
-    requests, external, failed, js_errors = set(), set(), [], []
+    requests, external, failed, js_errors, console = set(), set(), [], [], []
     for ev in events:
         m, prm = ev["method"], ev.get("params", {})
         if m == "Network.requestWillBeSent":
@@ -376,8 +386,16 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         elif m == "Runtime.exceptionThrown":
             d = prm["exceptionDetails"]
             err = (d.get("exception") or {}).get("description") or d.get("text") or ""
-            if KNOWN_JS_ERROR not in err:
-                js_errors.append(err)
+            js_errors.append(err)
+        elif m == "Runtime.consoleAPICalled" and prm.get("type") in ("error", "warning", "assert"):
+            text = " ".join(
+                str(a.get("value", a.get("description", ""))) for a in prm.get("args", [])
+            )
+            console.append(f"console.{prm['type']}: {text[:200]}")
+        elif m == "Log.entryAdded" and prm["entry"].get("level") in ("error", "warning"):
+            e = prm["entry"]
+            if not e.get("url", "").endswith("/favicon.ico"):
+                console.append(f"{e['level']} ({e.get('source')}): {e.get('text', '')[:200]}")
     print(
         f"  network: {len(requests)} requests, all local"
         if not external
@@ -387,9 +405,20 @@ def check_page(browser: Browser, base_url: str, page: str, shots: Path, args) ->
         failures.append(f"network: external requests {sorted(external)[:5]}")
     if failed:
         failures.append(f"network: failed requests {failed[:5]}")
-    print(f"  javascript: {len(js_errors)} uncaught errors")
+    print(
+        f"  javascript: {len(js_errors)} uncaught errors, {len(console)} console errors/warnings"
+    )
     if js_errors:
         failures.append(f"javascript errors: {js_errors[:3]}")
+    if console:
+        failures.append(f"console: {console[:3]}")
+    # No trace of thebe (off in this book: _ext/probrob_no_thebe.py removes it from the pages).
+    thebe = p.js(
+        "Array.from(document.querySelectorAll('script,link')).filter(e => /thebe/i.test("
+        "(e.src || e.href || '') + (e.type || '') + (e.textContent || '').slice(0, 2000))).length"
+    )
+    if thebe:
+        failures.append(f"thebe: {thebe} thebe scripts or stylesheets on the page")
 
     browser.send("Target.closeTarget", {"targetId": target})
     with browser.cond:
@@ -402,7 +431,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "pages",
         nargs="*",
-        help="pages relative to --html (default: notebook chapters in _toc.yml)",
+        help="pages relative to --html (default: every page of _toc.yml)",
     )
     ap.add_argument("--html", type=Path, default=ROOT / "_build" / "html")
     ap.add_argument("--screenshots", type=Path, default=ROOT / "_build" / "screenshots")
@@ -428,11 +457,14 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
 
     html = args.html.resolve()
-    pages = args.pages or toc_notebook_pages(ROOT)
+    if args.pages:
+        pages = [(pg, (ROOT / f"{pg.removesuffix('.html')}.ipynb").is_file()) for pg in args.pages]
+    else:
+        pages = toc_pages(ROOT)
     if not pages:
-        print("browser check: no notebook chapters in _toc.yml", file=sys.stderr)
+        print("browser check: no pages in _toc.yml", file=sys.stderr)
         return 1
-    missing = [pg for pg in pages if not (html / pg).is_file()]
+    missing = [pg for pg, _ in pages if not (html / pg).is_file()]
     if missing:
         print(f"browser check: not built: {missing} (run `make book`)", file=sys.stderr)
         return 1
@@ -445,10 +477,12 @@ def main(argv: list[str] | None = None) -> int:
     try:
         server = contextlib.nullcontext(html.as_uri()) if args.file_urls else serve(html)
         with server as base_url:
-            for page in pages:
+            for page, notebook in pages:
                 print(f"{page}:")
                 try:
-                    failures = check_page(browser, base_url, page, args.screenshots, args)
+                    failures = check_page(
+                        browser, base_url, page, args.screenshots, args, notebook
+                    )
                 except CheckError as e:
                     failures = [str(e)]
                 for f in failures:
