@@ -540,12 +540,12 @@ def landmark_model_live(
     r"""Return a live widget of the landmark model (Tables 6.4 and 6.5).
 
     Sliders for the feature :math:`f = (r, \phi, s)`, the standard deviations
-    :math:`(\sigma_r, \sigma_\phi, \sigma_s)` and the heading :math:`	heta` at which the
+    :math:`(\sigma_r, \sigma_\phi, \sigma_s)` and the heading :math:`\theta` at which the
     likelihood is drawn. Red: poses of
     :func:`~probrob.sensors.sample_landmark_model_known_correspondence` (the embedded draws of
     :func:`landmark_draws`); grey:
     :func:`~probrob.sensors.landmark_model_known_correspondence` over :math:`(x, y)` for poses
-    with heading :math:`	heta`; blue square: the landmark.
+    with heading :math:`\theta`; blue square: the landmark.
 
     Parameters
     ----------

@@ -87,17 +87,6 @@ def _landmark_rows(m, name: str = "m") -> np.ndarray:
     return arr
 
 
-def _sigmas(sigmas, count: int = 3) -> np.ndarray:
-    arr = check.finite(sigmas, "sigmas")
-    if arr.shape != (count,):
-        raise ValueError(
-            f"sigmas must hold {count} standard deviations (σ_r, σ_φ, σ_s), got shape {arr.shape}"
-        )
-    if np.any(arr < 0):
-        raise ValueError(f"sigmas are standard deviations and must be >= 0, got {arr.tolist()}")
-    return arr
-
-
 def _map(m) -> np.ndarray:
     arr = _landmark_rows(m)
     if arr.ndim != 2 or arr.shape[0] == 0:
@@ -267,7 +256,7 @@ def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
     belongs (errata L1), omits :math:`-\theta` in :math:`\hat\phi` (L2), and does not wrap
     :math:`\phi - \hat\phi` (L3).
 
-    A zero standard deviation makes its factor a point mass (DESIGN.md): the likelihood is
+    A zero standard deviation makes its factor a point mass (as in :mod:`probrob.distributions`): the likelihood is
     0 (``-inf`` with ``log=True``) where that component differs, ``inf`` where it matches
     exactly.
 
@@ -298,7 +287,7 @@ def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
     if m.shape[-1] != 3:
         raise ValueError(f"m must have shape (L, 3) (x, y, s) for signatures, got {m.shape}")
     c = _correspondences(c, m.shape[0])
-    sig2 = np.square(_sigmas(sigmas))
+    sig2 = np.square(check.sigmas(sigmas, "sigmas", (3,), positive=False))
     check.batch_shape(f=f.shape[:-1], c=c.shape, x=x.shape[:-1])
     z_hat = _landmark_measurement_core(x, m[c])
     errors = (
@@ -374,10 +363,7 @@ def sample_landmark_model_known_correspondence(
         raise ValueError(f"f must have shape (..., 3) (r, phi, s) or (..., 2), got {f.shape}")
     m = _map(m)
     c = _correspondences(c, m.shape[0])
-    sig = check.finite(sigmas, "sigmas")
-    if sig.shape not in ((2,), (3,)):
-        raise ValueError(f"sigmas must hold (σ_r, σ_φ) or (σ_r, σ_φ, σ_s), got shape {sig.shape}")
-    _sigmas(sig, sig.shape[0])
+    sig = check.sigmas(sigmas, "sigmas", (2, 3), positive=False)
     check.callable_arg(sample, "sample")
     shape = check.output_shape(check.batch_shape(f=f.shape[:-1], c=c.shape), size)
     rng = check.rng(rng)
