@@ -1,5 +1,8 @@
 r"""Live widgets: kernel-free sliders that recompute a model in the reader's browser.
 
+Holds the live widgets: self-contained HTML and JavaScript that recompute a model in the browser.
+Does not hold the models (the JavaScript mirrors :mod:`probrob.motion` and :mod:`probrob.sensors`).
+
 A live widget is one self-contained block of HTML, CSS and JavaScript (no CDN, no external
 file, no build step) that works in the static book and in Jupyter (as a trusted output). It
 embeds a seeded set of *standardized draws* :math:`z` made by :mod:`probrob.distributions`

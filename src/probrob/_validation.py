@@ -1,5 +1,8 @@
 r"""The one validation layer of probrob: every public function checks its input here.
 
+Holds every argument check of the public functions, and the overflow report.
+Does not hold models or what they compute; no other module defines its own checks.
+
 Rules (the book's *conventions* page, section "What the library accepts"):
 
 * bad input raises ``ValueError`` whose message names the argument (and its value or shape);

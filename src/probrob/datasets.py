@@ -1,5 +1,8 @@
 r"""Loaders for the real robot recordings the book uses.
 
+Holds the loaders of the real recordings: files found, checked against their sha256, parsed.
+Does not hold the data (never copied into the repository) or fits to it (:mod:`probrob.fitting`).
+
 Three datasets, each in its own folder (never copied into this repository):
 
 - :func:`load_mrclam` — folder ``mrclam_dataset7_robot1``: UTIAS MRCLAM Dataset 7, robot 1:

@@ -1,4 +1,7 @@
-r"""Motion-model noise parameters fitted to recorded motion by maximum likelihood.
+r"""Noise parameters fitted to recorded data: the motion and measurement noise of the models.
+
+Holds noise parameters fitted to recorded data: ML fits (Tables 5.1, 5.5) and moment fits (7.2, 6.4).
+Does not hold the models (:mod:`probrob.motion`, :mod:`probrob.sensors`) or the filters.
 
 The noise parameters :math:`\alpha` of the velocity model (*Probabilistic Robotics*,
 Table 5.1, :math:`\alpha_1 \ldots \alpha_6`) and of the odometry model (Table 5.5,

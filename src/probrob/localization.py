@@ -442,20 +442,20 @@ def _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold):
     Q = np.diag(sigmas[:d] ** 2)  # line 8
     landmarks = m[:, :d]
     j = np.full(z.shape[0], -1, dtype=int)
-    for i in range(z.shape[0]):  # line 9
-        z_hat = _landmark_measurement_core(mu_bar, landmarks)  # lines 10-12, (L, d)
+    for i in range(z.shape[0]):  # line 9; lines 10-15 for all landmarks k at once
+        z_hat = _landmark_measurement_core(mu_bar, landmarks)  # lines 11-12, (L, d)
         H = _landmark_jacobian_core(mu_bar, landmarks)  # line 13, (L, d, 3)
         S = H @ Sigma_bar @ np.swapaxes(H, -1, -2) + Q  # line 14, (L, d, d)
         nu = _innovation(z[i], z_hat)
         d2, log_p = _log_normal(nu, _cholesky(S))
-        k = int(np.argmax(log_p))  # lines 16-17: j(i) = argmax_k N(z_i; z_hat_k, S_k)
+        k = int(np.argmax(log_p))  # line 16: j(i) = argmax_k N(z_i; z_hat_k, S_k)
         if threshold is not None and d2[k] > threshold:
             continue
         j[i] = k
-        K = Sigma_bar @ H[k].T @ np.linalg.inv(S[k])  # line 18
-        mu_bar = mu_bar + K @ nu[k]  # line 19
-        Sigma_bar = (np.eye(3) - K @ H[k]) @ Sigma_bar  # line 20
-    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 22-23
+        K = Sigma_bar @ H[k].T @ np.linalg.inv(S[k])  # line 17
+        mu_bar = mu_bar + K @ nu[k]  # line 18
+        Sigma_bar = (np.eye(3) - K @ H[k]) @ Sigma_bar  # line 19
+    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 21-22
     return mu_t, Sigma_t, j
 
 
@@ -466,7 +466,7 @@ def _gate_threshold(gate, dof):
 
 
 def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
-    r"""Table 7.3, lines 1–24: return :math:`\mu_t, \Sigma_t` and the most likely landmark of each feature.
+    r"""Table 7.3, lines 1–23: return :math:`\mu_t, \Sigma_t` and the most likely landmark of each feature.
 
     *Probabilistic Robotics*, Table 7.3 (EKF localization with unknown
     correspondences). Prediction as in :func:`ekf_localization_known_correspondences`;
@@ -515,10 +515,10 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
 
 
 def ukf_weights(n: int, ukf_alpha: float = 1.0, beta: float = 2.0, kappa: float = 0.0):
-    r"""Table 3.4, lines 2–5 (used by Table 7.4, line 6): return :math:`\gamma, w^{(m)}, w^{(c)}`.
+    r"""The weights of Table 7.4, lines 6–13: return :math:`\gamma, w^{(m)}, w^{(c)}`.
 
-    *Probabilistic Robotics*, Table 3.4, the scaled sigma points of Wan and van der
-    Merwe: with :math:`\lambda = \alpha^2 (n + \kappa) - n`,
+    *Probabilistic Robotics*, Sec. 3.4.2 (the unscented Kalman filter, Table 3.4), the
+    scaled sigma points of Wan and van der Merwe: with :math:`\lambda = \alpha^2 (n + \kappa) - n`,
 
     .. math::
         \gamma = \sqrt{n + \lambda},\quad

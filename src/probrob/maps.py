@@ -1,5 +1,8 @@
 r"""Occupancy grids, their distance field, and ray casting (*Probabilistic Robotics*, ch. 6).
 
+Holds occupancy grids, their distance field and ray casting.
+Does not hold the range-finder models that use them (:mod:`probrob.sensors`).
+
 * :class:`OccupancyGrid` — a boolean grid of occupied cells with a metric resolution
   and origin, built from an array or from laser scans at known poses
   (:meth:`OccupancyGrid.from_scans`), with world ↔ cell conversions and the metric

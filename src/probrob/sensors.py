@@ -1,12 +1,15 @@
 r"""Measurement models of *Probabilistic Robotics*, chapter 6 (Tables 6.1–6.5).
 
+Holds the measurement models of Tables 6.1–6.5 and :math:`h, H` of Table 7.2, lines 11–13.
+Does not hold maps or ray casting (:mod:`probrob.maps`) or the filters (:mod:`probrob.localization`).
+
 Landmark models (Tables 6.4, 6.5; deck ``001`` "Modelo Landmark", "Modelo Sample Landmark"):
 
 * :func:`landmark_measurement` — the noise-free range–bearing–signature measurement
   :math:`h(x, m_j) = (\hat r, \hat\phi, s_j)` of a landmark seen from a pose; the EKF and the
   UKF of chapter 7 use it as their measurement function, so it exists once, here;
 * :func:`landmark_measurement_jacobian` — :math:`H = \partial h / \partial x` (Table 7.2,
-  line 14);
+  line 13);
 * :func:`landmark_model_known_correspondence` — :math:`p(f \mid c, x, m)`, Table 6.4;
 * :func:`sample_landmark_model_known_correspondence` — poses drawn from one feature,
   Table 6.5.
@@ -135,7 +138,7 @@ def _range_bearing(dx, dy, th):
 
 
 def _jacobian_entries(dx, dy):
-    r"""The entries :math:`H_{11}, H_{12}, H_{21}, H_{22}` of Table 7.2, line 14.
+    r"""The entries :math:`H_{11}, H_{12}, H_{21}, H_{22}` of Table 7.2, line 13.
 
     ``dx, dy`` the landmark minus the pose (floats or arrays, unchecked). Raises
     ``ValueError`` where the pose coincides with its landmark (:math:`q = 0`).
@@ -173,7 +176,7 @@ def _landmark_jacobian_core(x: np.ndarray, m: np.ndarray, batch=None) -> np.ndar
 def landmark_measurement(x, m):
     r"""Return the noise-free measurement :math:`h(x, m_j)` of landmark(s) ``m`` from pose(s) ``x``.
 
-    *Probabilistic Robotics*, Table 6.4, lines 3–4 (and :math:`\hat z` of Table 7.2, line 13):
+    *Probabilistic Robotics*, Table 6.4, lines 3–4 (and :math:`\hat z` of Table 7.2, line 12):
 
     .. math::
         \hat r = \sqrt{(m_{j,x} - x)^2 + (m_{j,y} - y)^2}, \qquad
@@ -205,7 +208,7 @@ def landmark_measurement(x, m):
 def landmark_measurement_jacobian(x, m):
     r"""Return :math:`H = \partial h(x, m_j) / \partial x`, the Jacobian of :func:`landmark_measurement`.
 
-    *Probabilistic Robotics*, Table 7.2, line 14, with :math:`q = (m_{j,x}-x)^2 +
+    *Probabilistic Robotics*, Table 7.2, line 13, with :math:`q = (m_{j,x}-x)^2 +
     (m_{j,y}-y)^2`:
 
     .. math::
