@@ -633,7 +633,9 @@ def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
     dx[:, 2] = _wrap(dx[:, 2])
     Sigma_bar = (wc[:, None] * dx).T @ dx  # line 9
     Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
-    if not _positive_semidefinite(Sigma_bar):
+    # A sum of outer products with weights >= 0 is positive semi-definite; only a negative
+    # w_0^(c) (a small ukf_alpha) can break it.
+    if wc[0] < 0 and not _positive_semidefinite(Sigma_bar):
         raise ValueError(
             "the predicted covariance is not positive semi-definite (check ukf_alpha, beta, kappa)"
         )
