@@ -456,12 +456,23 @@ def covariance(value, name: str, sizes: tuple[int, ...] = (3,), *, stack: bool =
             f"{name} must be symmetric, got entry ({i}, {j}) = {float(S[..., i, j].flat[0])!r} "
             f"and ({j}, {i}) = {float(S[..., j, i].flat[0])!r}"
         )
-    eig = np.linalg.eigvalsh(S)
-    if np.any(eig[..., 0] < -1e-12 * np.maximum(1.0, eig[..., -1])):
+    if not is_positive_semidefinite(S):
+        eig = np.linalg.eigvalsh(S)
         raise ValueError(
             f"{name} is not positive semi-definite (smallest eigenvalue {eig.min():.3g})"
         )
     return S
+
+
+def is_positive_semidefinite(S: np.ndarray) -> bool:
+    """Whether the symmetric ``S`` (..., n, n) is positive semi-definite: no eigenvalue below
+    ``-1e-12`` times the largest (a Cholesky factor, when it exists, proves it cheaply)."""
+    try:
+        np.linalg.cholesky(S)
+        return True
+    except np.linalg.LinAlgError:
+        eig = np.linalg.eigvalsh(S)
+        return bool(np.all(eig[..., 0] >= -1e-12 * np.maximum(1.0, eig[..., -1])))
 
 
 def landmark_map(value, name: str = "m") -> np.ndarray:
@@ -548,6 +559,7 @@ def step_lengths(value, name: str, n: int) -> np.ndarray:
 __all__ += [
     "covariance",
     "features",
+    "is_positive_semidefinite",
     "landmark_indices",
     "landmark_map",
     "open_probability",

@@ -149,16 +149,6 @@ def _sqrt_psd(S: np.ndarray) -> np.ndarray:
         return U * np.sqrt(np.clip(w, 0.0, None))
 
 
-def _positive_semidefinite(S: np.ndarray) -> bool:
-    """Whether the symmetric ``S`` is positive semi-definite (as ``check.covariance`` judges)."""
-    try:
-        np.linalg.cholesky(S)
-        return True
-    except np.linalg.LinAlgError:
-        eig = np.linalg.eigvalsh(S)
-        return bool(eig[0] >= -1e-12 * max(1.0, eig[-1]))
-
-
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
     """Lines 19–20 (Tables 7.2, 7.3) and 15–16 (7.4): the heading wrapped, Σ symmetrised."""
     _finite_or_raise("the estimate", mu, Sigma)
@@ -635,7 +625,7 @@ def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
     Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
     # A sum of outer products with weights >= 0 is positive semi-definite; only a negative
     # w_0^(c) (a small ukf_alpha) can break it.
-    if wc[0] < 0 and not _positive_semidefinite(Sigma_bar):
+    if wc[0] < 0 and not check.is_positive_semidefinite(Sigma_bar):
         raise ValueError(
             "the predicted covariance is not positive semi-definite (check ukf_alpha, beta, kappa)"
         )
