@@ -557,6 +557,20 @@ def _fit(loglik, count, n_pairs, model, noise, density, alpha0, alpha_bounds):
     )
 
 
+def _fit_model(model_fn, model, count, data, noise, density, alpha0, alpha_bounds):
+    """Check the options, then fit ``count`` α of ``model_fn`` to ``data`` (see :func:`_fit`).
+
+    ``data`` are the model's arguments before ``alpha``: ``(x_t, u_t, x_prev[, dt])``.
+    """
+    check.choice(noise, "noise", _NOISE_FORMS)
+    check.choice(density, "density", _FIT_DENSITIES)
+
+    def loglik(alpha):
+        return _log_density(model_fn, *data, alpha, noise=noise, density=density)
+
+    return _fit(loglik, count, data[0].shape[0], model, noise, density, alpha0, alpha_bounds)
+
+
 def _pairs(x_t, x_prev):
     x_t = check.poses(x_t, "x_t")
     x_prev = check.poses(x_prev, "x_prev")
@@ -613,15 +627,10 @@ def fit_velocity_alpha(
     x_t, x_prev = _pairs(x_t, x_prev)
     u_t = _rows(u_t, "u_t", x_t.shape[0], 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
-    check.choice(noise, "noise", _NOISE_FORMS)
-    check.choice(density, "density", _FIT_DENSITIES)
-
-    def loglik(alpha):
-        return _log_density(
-            motion_model_velocity, x_t, u_t, x_prev, dt, alpha, noise=noise, density=density
-        )
-
-    return _fit(loglik, 6, x_t.shape[0], "velocity", noise, density, alpha0, alpha_bounds)
+    return _fit_model(
+        motion_model_velocity, "velocity", 6, (x_t, u_t, x_prev, dt), noise, density, alpha0,
+        alpha_bounds,
+    )  # fmt: skip
 
 
 def fit_odometry_alpha(
@@ -670,15 +679,10 @@ def fit_odometry_alpha(
         raise ValueError(
             f"u_t must have shape ({x_t.shape[0]}, 2, 3) (odometry poses), got {u_t.shape}"
         )
-    check.choice(noise, "noise", _NOISE_FORMS)
-    check.choice(density, "density", _FIT_DENSITIES)
-
-    def loglik(alpha):
-        return _log_density(
-            motion_model_odometry, x_t, u_t, x_prev, alpha, noise=noise, density=density
-        )
-
-    return _fit(loglik, 4, x_t.shape[0], "odometry", noise, density, alpha0, alpha_bounds)
+    return _fit_model(
+        motion_model_odometry, "odometry", 4, (x_t, u_t, x_prev), noise, density, alpha0,
+        alpha_bounds,
+    )  # fmt: skip
 
 
 # --------------------------------------------------------------------------- moment fits
