@@ -31,7 +31,7 @@ help:
 	@echo "make book          execute the notebooks and build the HTML book into $(HTML)/"
 	@echo "make test          ruff check + ruff format --check + pytest tests/ + nbval notebooks/"
 	@echo "make execute       re-execute every notebook and store its outputs in place"
-	@echo "make bench         run the speed benchmarks (benchmarks/bench_motion.py)"
+	@echo "make bench         run the speed benchmarks (benchmarks/bench_*.py)"
 	@echo "make lab           JupyterLab on notebooks/ (live sliders; installs it into .venv once)"
 	@echo "make format        ruff format + ruff check --fix (code and notebooks)"
 	@echo "make browser-check open the built chapters in headless Chromium and check them"
@@ -130,6 +130,7 @@ bench: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_sensors.py
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_filters.py
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_kinematics.py
+	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_mcl.py
 
 # ---- cleaning ----------------------------------------------------------------------------
 clean:

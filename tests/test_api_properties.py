@@ -87,6 +87,7 @@ import probrob.fitting as fitting
 import probrob.kinematics as kinematics
 import probrob.localization as localization
 import probrob.maps as maps
+import probrob.mcl as mcl
 import probrob.motion as motion
 import probrob.plotting as plotting
 import probrob.sensors as sensors
@@ -1195,9 +1196,15 @@ API += [
 ]
 
 _SIM = simulation.simulate_run(
-    np.zeros(3), simulation.loop_controls(8, 0.5), 0.5, LANDMARKS, [0.01] * 4, (0.1, 0.05, 0.0),
-    max_range=6.0, rng=3,
-)  # fmt: skip
+    np.zeros(3),
+    simulation.loop_controls(8, 0.5),
+    0.5,
+    LANDMARKS,
+    [0.01] * 4,
+    (0.1, 0.05, 0.0),
+    max_range=6.0,
+    rng=3,
+)
 API += [
     Api(
         localization.run_filter,
@@ -1415,6 +1422,189 @@ API += [
             ],
         ),
         path=PATH,
+        skip_valid=True,
+    ),
+]
+
+
+# probrob.mcl (Monte Carlo localization): particle sets inside GRID_MAP, odometry pairs, scans
+def _particle_sets(batch):
+    n = max(1, int(np.prod(batch)))
+    return st.lists(st.tuples(GX, GY, HEADING), min_size=n, max_size=n).map(
+        lambda rows: np.array(rows, dtype=float)
+    )
+
+
+def _weight_vectors(batch):
+    n = max(1, int(np.prod(batch)))
+    return (
+        st.lists(floats([0.0, 1e-300, 1.0, 1e300], 0.0, 1e300), min_size=n, max_size=n)
+        .filter(lambda w: sum(w) > 0)
+        .map(np.array)
+    )
+
+
+PARTICLES = Arg(
+    _particle_sets,
+    np.array([[2.0, 1.0, 0.3], [3.0, 2.5, -1.0]]),
+    [
+        (np.zeros((0, 3)), ValueError),
+        (np.zeros((2, 2)), ValueError),
+        (np.full((2, 3), np.nan), ValueError),
+        (np.zeros((2, 3)) * 1j, TypeError),
+        (None, ValueError),
+    ],
+)
+MCL_ODOMETRY = Arg(
+    constant(np.array([[0.0, 0.0, 0.0], [0.2, 0.05, 0.1]])),
+    np.array([[0.0, 0.0, 0.0], [0.2, 0.05, 0.1]]),
+    [(np.zeros(3), ValueError), (np.full((2, 3), np.inf), ValueError), (None, ValueError)],
+)
+SCAN = Arg(
+    lambda batch: st.lists(RANGE, min_size=len(BEAMS), max_size=len(BEAMS)).map(np.array),
+    np.full(len(BEAMS), 2.0),
+    [
+        (np.full(len(BEAMS), -1.0), ValueError),
+        (np.full(3, 2.0), ValueError),
+        (np.full(len(BEAMS), np.nan), ValueError),
+        (None, ValueError),
+    ],
+)
+MCL_SENSOR = Arg(choices("likelihood_field", "beam"), "likelihood_field", BAD_CHOICE)
+EXPONENT = Arg(
+    lambda batch: floats([1e-3, 0.5, 1.0], 1e-3, 1.0),
+    1.0,
+    [(0.0, ValueError), (1.5, ValueError), *BAD_SCALAR],
+)
+WEIGHTS = Arg(
+    _weight_vectors,
+    np.array([0.2, 0.8]),
+    [
+        (np.array([0.0, 0.0]), ValueError),
+        (np.array([0.5, -0.1]), ValueError),
+        (np.array([0.5, np.nan]), ValueError),
+        (np.zeros((2, 2)), ValueError),
+        (None, ValueError),
+    ],
+)
+AVERAGE = Arg(lambda batch: floats([0.0, 1e-30, 1.0, 1e30], 0.0, 1e30), 0.0, BAD_VARIANCE)
+_MCL_STEP = dict(
+    particles=PARTICLES,
+    u=MCL_ODOMETRY,
+    z=SCAN,
+    grid=GRID,
+    beam_angles=BEAM_ANGLES,
+    alpha=ALPHAS4,
+    params=BEAM_PARAMS,
+    sensor=MCL_SENSOR,
+    exponent=EXPONENT,
+    rng=SEED,
+)
+API += [
+    Api(
+        mcl.low_variance_sampler,
+        "map",
+        weights=WEIGHTS,
+        size=Arg(
+            lambda batch: st.one_of(st.just(None), st.integers(1, 30)),
+            None,
+            [(0, ValueError), *BAD_COUNT],
+        ),
+        rng=SEED,
+    ),
+    Api(
+        mcl.effective_sample_size,
+        "map",
+        weights=WEIGHTS,
+        log=Arg(constant(False), False, BAD_FLAG),
+    ),
+    Api(mcl.uniform_particles, "map", grid=GRID, n=COUNT_POSITIVE, rng=SEED),
+    Api(
+        mcl.kld_sample_size,
+        "map",
+        k=Arg(lambda batch: st.integers(2, 10**6), 10, [(1, ValueError), *BAD_COUNT]),
+        epsilon=Arg(lambda batch: floats([1e-3, 0.05, 1.0], 1e-3, 1.0), 0.05, BAD_POSITIVE),
+        delta=Arg(
+            lambda batch: floats([1e-9, 0.01, 0.5, 0.99], 1e-9, 0.99),
+            0.01,
+            [(0.0, ValueError), (1.0, ValueError), *BAD_SCALAR],
+        ),
+    ),
+    Api(
+        mcl.measurement_log_weights,
+        "map",
+        finite=False,  # a particle off the map has log-weight -inf (none is drawn here)
+        **{k: v for k, v in _MCL_STEP.items() if k not in ("u", "alpha", "rng")},
+        examples=20,
+    ),
+    Api(mcl.mcl, "map", **_MCL_STEP, examples=20),
+    Api(
+        mcl.augmented_mcl,
+        "map",
+        **_MCL_STEP,
+        w_slow=AVERAGE,
+        w_fast=AVERAGE,
+        examples=20,
+    ),
+    Api(
+        mcl.kld_sampling_mcl,
+        "map",
+        **_MCL_STEP,
+        n_min=COUNT_POSITIVE,
+        examples=20,
+    ),
+    Api(
+        mcl.estimate_pose,
+        "map",
+        particles=PARTICLES,
+        radius=Arg(lambda batch: floats([0.01, 0.5, 10.0], 0.01, 10.0), 0.5, BAD_POSITIVE),
+    ),
+    Api(
+        mcl.run_mcl,
+        "map",
+        particles=PARTICLES,
+        odometry=Arg(
+            constant(np.array([[[0.0, 0.0, 0.0], [0.2, 0.05, 0.1]]] * 2)),
+            np.array([[[0.0, 0.0, 0.0], [0.2, 0.05, 0.1]]] * 2),
+            [(np.zeros((2, 3)), ValueError), (None, ValueError)],
+        ),
+        scans=Arg(
+            constant(np.full((2, len(BEAMS)), 2.0)),
+            np.full((2, len(BEAMS)), 2.0),
+            [(np.full((3, len(BEAMS)), 2.0), ValueError), (None, ValueError)],
+        ),
+        grid=GRID,
+        beam_angles=BEAM_ANGLES,
+        alpha=ALPHAS4,
+        params=BEAM_PARAMS,
+        method=Arg(choices("mcl", "augmented", "kld"), "mcl", BAD_CHOICE),
+        rng=SEED,
+        skip_valid=True,  # its record holds wall-clock times; tests/test_mcl.py runs it
+    ),
+    Api(
+        plotting.plot_occupancy_grid,
+        "plot",
+        grid=GRID,
+        unexplored=Arg(choices(True, False), True, BAD_FLAG),
+        examples=5,
+    ),
+    Api(plotting.plot_particles, "plot", particles=PARTICLES, examples=5),
+    Api(
+        mcl.occupied_bins,
+        "map",
+        particles=PARTICLES,
+        bin_size=Arg(
+            constant((0.5, 0.5, np.pi / 18)),
+            (0.5, 0.5, np.pi / 18),
+            [((0.5, 0.0, 0.1), ValueError), ((0.5, 0.5), ValueError), (None, ValueError)],
+        ),
+    ),
+    Api(
+        datasets.read_carmen_log,
+        "map",
+        path=Arg(
+            constant(None), None, [(None, ValueError), ("/nonexistent/log", FileNotFoundError)]
+        ),
         skip_valid=True,
     ),
 ]
@@ -1740,7 +1930,7 @@ def test_every_public_function_is_in_the_table():
     listed |= {func for func, *_ in EXTRA_INVALID}
     missing = []
     modules = (angles, distributions, motion, plotting, widgets, kinematics, sensors, maps)
-    for module in (*modules, localization, evaluation, simulation, fitting, datasets):
+    for module in (*modules, localization, evaluation, simulation, fitting, datasets, mcl):
         for name in module.__all__:
             obj = getattr(module, name)
             if inspect.isfunction(obj) and obj not in listed:  # classes may join as rows too

@@ -51,6 +51,7 @@ from .kinematics import _interpolate_track
 
 __all__ = [
     "MRCLAM",
+    "CarmenLog",
     "DatasetCorruptError",
     "DatasetNotFoundError",
     "IntelLab",
@@ -59,6 +60,7 @@ __all__ = [
     "load_intel_lab",
     "load_lnpr_wall",
     "load_mrclam",
+    "read_carmen_log",
 ]
 
 # src/probrob/datasets.py -> the repository root (src layout).
@@ -639,11 +641,174 @@ def load_mrclam(path=None) -> MRCLAM:
 # --------------------------------------------------------------------------- Intel lab
 
 
+def _carmen_beam_angles(n: int) -> np.ndarray:
+    """CARMEN's convention for a FLASER line of ``n`` beams: a 180° scanner from −90°, counter-
+    clockwise, at 180°/n for an even ``n`` (180 → 1°, 360 → 0.5°; the last beam at +89°) and
+    180°/(n − 1) for an odd one (181 → 1°, 361 → 0.5°; the last beam at +90°)."""
+    return -0.5 * np.pi + np.arange(n) * (np.pi / (n - n % 2))
+
+
+class _CarmenError(ValueError):
+    """A malformed CARMEN line (its number and what was expected), for the two readers."""
+
+
+def _numbers(fields: list[str], what: str, lineno: int) -> list[float]:
+    try:
+        values = [float(f) for f in fields]
+    except ValueError:
+        raise _CarmenError(
+            f"line {lineno}: {what} must be numbers, got {' '.join(fields)!r}"
+        ) from None
+    if not all(np.isfinite(values)):
+        raise _CarmenError(f"line {lineno}: {what} must be finite, got {' '.join(fields)!r}")
+    return values
+
+
+def _parse_carmen(lines) -> dict:
+    """Parse a CARMEN log's FLASER, ODOM, NEFF and PARAM lines (other messages are skipped).
+
+    Returns the scans' time stamps, poses, odometry poses and ranges, the odometry pair of
+    every step between consecutive scans, the NEFF values and the PARAM dictionary; raises
+    :class:`_CarmenError` naming the line of the first malformed message.
+    """
+    t, poses, odom, ranges, neff, last_odom = [], [], [], [], [], []
+    params: dict[str, str] = {}
+    n_beams = None
+    for lineno, line in enumerate(lines, start=1):
+        f = line.split()
+        if not f or f[0].startswith("#"):
+            continue
+        tag = f[0]
+        if tag == "FLASER":
+            # FLASER n r_0 … r_{n-1} x y θ odom_x odom_y odom_θ timestamp hostname logger_ts
+            if len(f) < 2 or not f[1].isdigit() or int(f[1]) < 1:
+                raise _CarmenError(
+                    f"line {lineno}: FLASER must be followed by its number of beams, got "
+                    f"{' '.join(f[:2])!r}"
+                )
+            n = int(f[1])
+            if len(f) != n + 11:
+                raise _CarmenError(
+                    f"line {lineno}: FLASER with {n} beams needs {n + 11} fields (FLASER n, "
+                    f"{n} ranges, x y θ, odom_x odom_y odom_θ, timestamp hostname logger "
+                    f"timestamp), got {len(f)}"
+                )
+            if n_beams is not None and n != n_beams:
+                raise _CarmenError(
+                    f"line {lineno}: FLASER has {n} beams where earlier scans have {n_beams}"
+                )
+            n_beams = n
+            r = _numbers(f[2 : 2 + n], "FLASER ranges", lineno)
+            if min(r) < 0:
+                raise _CarmenError(f"line {lineno}: FLASER ranges must be >= 0")
+            v = _numbers(
+                f[2 + n : 8 + n] + [f[8 + n]],
+                "FLASER x y θ odom_x odom_y odom_θ timestamp",
+                lineno,
+            )
+            ranges.append(r)
+            poses.append(v[0:3])
+            odom.append(v[3:6])
+            t.append(v[6])
+            last_odom.append(None)
+        elif tag == "ODOM":
+            # ODOM x y θ tv rv accel timestamp hostname logger_timestamp
+            if len(f) < 7:
+                raise _CarmenError(
+                    f"line {lineno}: ODOM needs at least x y θ, a timestamp, a hostname and "
+                    f"a logger timestamp, got {len(f) - 1} fields"
+                )
+            v = _numbers(f[1:4], "ODOM x y θ", lineno)
+            if last_odom:
+                last_odom[-1] = v
+        elif tag == "NEFF":
+            if len(f) != 2:
+                raise _CarmenError(f"line {lineno}: NEFF needs one value, got {len(f) - 1}")
+            neff.append(_numbers(f[1:2], "NEFF", lineno)[0])
+        elif tag == "PARAM":
+            if len(f) < 3:
+                raise _CarmenError(f"line {lineno}: PARAM needs a name and a value")
+            params[f[1]] = f[2]
+    if not poses:
+        raise _CarmenError(
+            "the log has no FLASER line (no laser scan; ROBOTLASER1 and RAWLASER messages "
+            "are not read)"
+        )
+    odom_arr = np.array(odom, dtype=float)
+    # The odometry of step k: from the odometry pose of scan k to the last ODOM pose logged
+    # before scan k + 1 (or, with no ODOM line in between, the odometry pose of scan k + 1).
+    ends = np.array(
+        [odom[k + 1] if last_odom[k] is None else last_odom[k] for k in range(len(odom) - 1)],
+        dtype=float,
+    ).reshape(-1, 3)
+    return dict(
+        t=np.array(t, dtype=float),
+        poses=np.array(poses, dtype=float),
+        ranges=np.array(ranges, dtype=float),
+        odometry=np.stack([odom_arr[:-1], ends], axis=1),
+        beam_angles=_carmen_beam_angles(n_beams),
+        neff=np.array(neff, dtype=float),
+        params=params,
+    )
+
+
 @dataclass(frozen=True, eq=False)
-class IntelLab:
-    r"""The Intel Research Lab corrected CARMEN log, as returned by :func:`load_intel_lab`.
+class CarmenLog:
+    r"""A CARMEN laser log (FLASER scans with odometry), as returned by :func:`read_carmen_log`.
 
     All arrays are read-only.
+
+    Attributes
+    ----------
+    t : ndarray, shape (S,)
+        Scan time stamps [s], as logged.
+    poses : ndarray, shape (S, 3)
+        The pose :math:`(x, y, \theta)` [m, m, rad] written with each scan (raw odometry in a
+        raw log; a SLAM-corrected pose in a "corrected" log), θ as in the file.
+    ranges : ndarray, shape (S, B)
+        Measured ranges [m]. A reading equal to :attr:`max_range` means no return.
+    beam_angles : ndarray, shape (B,)
+        Beam directions relative to the heading [rad], CARMEN's FLASER convention (a 180°
+        scanner from −90°, counter-clockwise; 1° apart for 180 or 181 beams).
+    odometry : ndarray, shape (S − 1, 2, 3)
+        For each step between consecutive scans, an odometry pair
+        :math:`(\bar x_{k}, \bar x_{k+1})`, the ``u`` of Table 5.6: from the odometry pose
+        logged with scan k to the last ``ODOM`` pose logged before scan k + 1 (the odometry
+        pose of scan k + 1 when no ``ODOM`` line lies between them).
+    max_range : float
+        The no-return code [m].
+    laser_offset : float
+        Forward offset of the laser from the robot origin [m] (``PARAM
+        robot_frontlaser_offset``; 0 when absent).
+    folder : str
+        The folder the log was read from.
+    """
+
+    t: np.ndarray
+    poses: np.ndarray
+    ranges: np.ndarray
+    beam_angles: np.ndarray
+    odometry: np.ndarray
+    max_range: float
+    laser_offset: float
+    folder: str
+
+    def __repr__(self) -> str:
+        return _summary(
+            self, ["t", "poses", "ranges", "beam_angles", "odometry", "max_range", "folder"]
+        )
+
+    @property
+    def no_return(self) -> np.ndarray:
+        """Boolean mask, shape (S, B): the readings equal to :attr:`max_range`."""
+        return self.ranges >= self.max_range
+
+
+@dataclass(frozen=True, eq=False)
+class IntelLab(CarmenLog):
+    r"""The Intel Research Lab corrected CARMEN log, as returned by :func:`load_intel_lab`.
+
+    All arrays are read-only. The fields of :class:`CarmenLog`, for this log:
 
     Attributes
     ----------
@@ -660,8 +825,14 @@ class IntelLab:
     beam_angles : ndarray, shape (B,)
         Beam directions relative to the heading [rad], counter-clockwise: beam ``i`` points
         at :math:`\theta - \pi/2 + i\,\pi/180`, i.e. −90°, −89°, …, +89° (the CARMEN
-        convention for 180-beam FLASER; SOURCE.md checked it against scan alignment, and
-        notes that a start at −89.5° fits the data almost as well).
+        convention for 180-beam FLASER, checked against scan alignment; a start at −89.5°
+        fits the data almost as well).
+    odometry : ndarray, shape (S − 1, 2, 3)
+        The log's real odometry between scans: the pair (corrected pose of scan k, last
+        ``ODOM`` pose before scan k + 1). The log's ``ODOM`` lines are the corrected pose of
+        the last scan continued by wheel-odometry increments (reset after every scan), so
+        this pair is what the wheels measured over the step, in a frame anchored at the
+        corrected pose of scan k; its end misses the next corrected pose by a median of 5 cm.
     max_range : float
         81.83 m: the value the scanner writes for "no return" (SICK LMS). The largest
         genuine reading is 25.38 m, so a beam model may prefer a smaller :math:`z_{max}`
@@ -673,32 +844,23 @@ class IntelLab:
         GMapping's effective particle count logged after each scan (2.1 … 15).
     folder : str
         The folder the log was read from.
-
-    Notes
-    -----
-    The log's ``ODOM`` lines are not returned: they are not raw odometry but the corrected
-    pose continued by odometry increments, reset after every scan (see SOURCE.md).
     """
 
-    t: np.ndarray
-    poses: np.ndarray
-    ranges: np.ndarray
-    beam_angles: np.ndarray
-    max_range: float
-    laser_offset: float
-    neff: np.ndarray
-    folder: str
+    neff: np.ndarray = field(default_factory=lambda: np.empty(0))
 
     def __repr__(self) -> str:
         return _summary(self, ["t", "poses", "ranges", "beam_angles", "max_range", "folder"])
 
-    @property
-    def no_return(self) -> np.ndarray:
-        """Boolean mask, shape (S, B): the readings equal to :attr:`max_range`."""
-        return self.ranges >= self.max_range
-
 
 _INTEL_MAX_RANGE = 81.83
+
+
+def _carmen_fields(parsed: dict, max_range: float) -> dict:
+    laser_offset = float(parsed["params"].get("robot_frontlaser_offset", 0.0))
+    out = {k: np.ascontiguousarray(parsed[k]) for k in ("t", "poses", "ranges", "odometry")}
+    out["beam_angles"] = parsed["beam_angles"]
+    _readonly(*out.values())
+    return dict(out, max_range=max_range, laser_offset=laser_offset)
 
 
 @functools.lru_cache(maxsize=2)
@@ -707,34 +869,78 @@ def _intel_cached(file: Path, stamp: tuple) -> IntelLab:
     _verify(_INTEL, file)
     with gzip.open(file, "rt", encoding="ascii") as fh:
         lines = fh.read().splitlines()
-    laser_offset = None
-    scans, neff = [], []
-    for line in lines:
-        if line.startswith("FLASER "):
-            scans.append(line.split())
-        elif line.startswith("NEFF "):
-            neff.append(line.split()[1])
-        elif line.startswith("PARAM robot_frontlaser_offset "):
-            laser_offset = float(line.split()[2])
-    beams = {int(s[1]) for s in scans}
-    if len(beams) != 1 or laser_offset is None or len(neff) != len(scans):
+    try:
+        parsed = _parse_carmen(lines)
+    except _CarmenError as exc:
+        raise DatasetCorruptError(
+            f"{file}: {exc}", file=str(file), url=_INTEL.files[0].url
+        ) from None
+    if (
+        "robot_frontlaser_offset" not in parsed["params"]
+        or parsed["neff"].size != parsed["t"].size
+    ):
         raise DatasetCorruptError(
             f"{file}: unexpected CARMEN layout", file=str(file), url=_INTEL.files[0].url
         )
-    b = beams.pop()
-    # FLASER n r_0 … r_{n-1} x y θ odom_x odom_y odom_θ timestamp hostname logger_timestamp
-    values = np.array([s[2 : b + 9] for s in scans], dtype=float)
-    out = dict(
-        t=np.ascontiguousarray(values[:, b + 6]),
-        poses=np.ascontiguousarray(values[:, b : b + 3]),
-        ranges=np.ascontiguousarray(values[:, :b]),
-        beam_angles=np.deg2rad(np.arange(b) - 90.0),
-        neff=np.array(neff, dtype=float),
-    )
-    _readonly(*out.values())
-    return IntelLab(
-        **out, max_range=_INTEL_MAX_RANGE, laser_offset=laser_offset, folder=str(file.parent)
-    )
+    neff = parsed["neff"]
+    _readonly(neff)
+    return IntelLab(**_carmen_fields(parsed, _INTEL_MAX_RANGE), folder=str(file.parent), neff=neff)
+
+
+def read_carmen_log(path, *, max_range=None) -> CarmenLog:
+    r"""Read any CARMEN laser log (``FLASER`` scans and ``ODOM`` odometry), e.g. Radish's logs.
+
+    The same arrays as :func:`load_intel_lab` (see :class:`CarmenLog`), for a log the reader
+    brings: no checksum is checked. Lines other than ``FLASER``, ``ODOM``, ``NEFF`` and
+    ``PARAM`` are skipped; a malformed one raises ``ValueError`` with its line number and
+    what was expected there.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The log file (plain text, or gzip-compressed if its name ends in ``.gz``).
+    max_range : float, optional
+        The scanner's no-return code [m]. Default: the largest range in the log, if it occurs
+        more than once (a code repeats; a genuine longest reading rarely does); otherwise the
+        argument is required.
+
+    Returns
+    -------
+    CarmenLog
+    """
+    try:
+        file = Path(os.fspath(path)).expanduser()
+    except TypeError as exc:
+        raise ValueError(
+            f"path must be a file name (str or os.PathLike), got {type(path).__name__} {path!r}"
+        ) from exc
+    if not file.is_file():
+        raise FileNotFoundError(f"path: no such file {str(file)!r}")
+    opener = gzip.open if file.suffix == ".gz" else open
+    try:
+        with opener(file, "rt", encoding="ascii", errors="strict") as fh:
+            lines = fh.read().splitlines()
+    except (UnicodeDecodeError, OSError) as exc:
+        raise ValueError(
+            f"path: {str(file)!r} is not a readable text CARMEN log ({exc})"
+        ) from None
+    try:
+        parsed = _parse_carmen(lines)
+    except _CarmenError as exc:
+        raise ValueError(f"{file}: {exc}") from None
+    if max_range is None:
+        ranges = parsed["ranges"]
+        max_range = float(ranges.max())
+        if np.count_nonzero(ranges == max_range) < 2:
+            raise ValueError(
+                f"max_range: pass the scanner's no-return code; the log's largest reading, "
+                f"{max_range!r} m, occurs once, so it is a reading, not a code"
+            )
+    else:
+        max_range = float(max_range)
+        if not (np.isfinite(max_range) and max_range > 0):
+            raise ValueError(f"max_range must be a positive number of metres, got {max_range!r}")
+    return CarmenLog(**_carmen_fields(parsed, max_range), folder=str(file.parent))
 
 
 def load_intel_lab(path=None) -> IntelLab:

@@ -72,9 +72,13 @@ class OccupancyGrid:
         Read-only copy of the grid.
     resolution : float
     origin : ndarray, shape (2,)
+    free : ndarray of bool, shape (H, W)
+        Read-only: the cells known to be free. By default every cell that is not occupied;
+        a grid built :meth:`from_scans` knows only the cells its beams saw (a cell no beam
+        crossed or ended in is neither free nor occupied: unexplored).
     """
 
-    def __init__(self, occupied, resolution, origin=(0.0, 0.0)):
+    def __init__(self, occupied, resolution, origin=(0.0, 0.0), *, free=None):
         occ = np.asarray(occupied)
         if occ.dtype != bool:
             if not np.issubdtype(occ.dtype, np.number) or not np.all(np.isin(occ, (0, 1))):
@@ -90,6 +94,20 @@ class OccupancyGrid:
             raise ValueError(f"origin must have shape (2,), got {origin.shape}")
         self.origin = origin
         self.origin.flags.writeable = False
+        if free is None:
+            free = ~self.occupied
+        else:
+            free = np.asarray(free)
+            if free.dtype != bool or free.shape != self.occupied.shape:
+                raise ValueError(
+                    f"free must be a boolean array of the shape of occupied {occ.shape}, got "
+                    f"{free.dtype} {free.shape}"
+                )
+            if np.any(free & self.occupied):
+                raise ValueError("free and occupied overlap: a cell cannot be both")
+            free = free.copy()
+        free.flags.writeable = False
+        self.free = free
         self._likelihood_tables: dict = {}
 
     # ------------------------------------------------------------------ geometry
@@ -223,6 +241,7 @@ class OccupancyGrid:
         Returns
         -------
         grid : OccupancyGrid
+            Its :attr:`free` cells are those that some beam saw and that are not occupied.
         """
         poses = check.poses(poses, "poses")
         ranges = check.finite(ranges, "ranges")
@@ -289,7 +308,8 @@ class OccupancyGrid:
         l_occ = np.log(p_occupied / (1 - p_occupied))
         l_free = np.log(p_free / (1 - p_free))
         occupied = (hits * l_occ + free * l_free > 0).reshape(h, w)
-        return cls(occupied, resolution, origin)
+        seen = ((hits + free) > 0).reshape(h, w)
+        return cls(occupied, resolution, origin, free=seen & ~occupied)
 
     def __repr__(self) -> str:
         h, w = self.shape

@@ -738,7 +738,7 @@ def apply_odometry_deltas(x_prev, rot1, trans, rot2):
     .. math::
         x' = x + \delta_{trans}\cos(\theta + \delta_{rot1}),\quad
         y' = y + \delta_{trans}\sin(\theta + \delta_{rot1}),\quad
-                heta' = \theta + \delta_{rot1} + \delta_{rot2}.
+                \theta' = \theta + \delta_{rot1} + \delta_{rot2}.
 
     Parameters
     ----------

@@ -71,7 +71,9 @@ __all__ = [
     "plot_density_xy",
     "plot_distribution",
     "plot_motion_model",
+    "plot_occupancy_grid",
     "plot_odometry_deltas",
+    "plot_particles",
     "plot_pose",
     "plot_samples",
     "plot_velocity_geometry",
@@ -805,3 +807,52 @@ def plot_odometry_deltas(xbar_prev, xbar_t, ax=None, *, arrow=None, hat=False):
     )
     points = [a[:2], b[:2]] + [t.get_position() for t in texts]
     return _finish_diagram(ax, points, pad=1.2 * arrow)
+
+
+# --------------------------------------------------------------------------- maps and particles
+def plot_occupancy_grid(grid, ax=None, *, unexplored=True):
+    """Draw an occupancy grid: occupied cells black, free cells white, unexplored cells grey.
+
+    Parameters
+    ----------
+    grid : probrob.maps.OccupancyGrid
+    ax : matplotlib Axes, optional
+    unexplored : bool
+        Shade the cells that are neither free nor occupied (:attr:`OccupancyGrid.free`).
+
+    Returns
+    -------
+    ax : matplotlib Axes
+        In metres, equal aspect, labelled.
+    """
+    from .maps import _check_grid
+
+    grid = _check_grid(grid)
+    unexplored = check.flag(unexplored, "unexplored")
+    ax = _axes(ax)
+    shade = np.where(grid.occupied, 1.0, 0.0)
+    if unexplored:
+        shade = np.where(~grid.occupied & ~grid.free, 0.25, shade)
+    ax.imshow(
+        shade, origin="lower", extent=grid.extent, cmap="Greys", vmin=0.0, vmax=1.0,
+        interpolation="nearest",
+    )  # fmt: skip
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    return ax
+
+
+def plot_particles(particles, ax=None, *, color="tab:red", size=2.0, alpha=0.5, label=None):
+    """Scatter the positions of a particle set ``(N, 3)`` (headings are not drawn).
+
+    Returns
+    -------
+    ax : matplotlib Axes
+    """
+    x = check.poses(particles, "particles")
+    if x.ndim != 2 or x.shape[0] == 0:
+        raise ValueError(f"particles must have shape (N, 3) with N >= 1, got {x.shape}")
+    ax = _axes(ax)
+    ax.scatter(x[:, 0], x[:, 1], s=size, c=color, alpha=alpha, lw=0, label=label)
+    return ax

@@ -1,0 +1,165 @@
+r"""Checks for the exercises of the CIR chapter (the Italian report on the CIR state function).
+
+Each ``exercise_N(answer)`` computes the truth with :mod:`probrob.kinematics` and returns
+``None`` when the answer is right, or a short message saying what is wrong (never the right
+value). The chapter's check cells call them through :func:`probrob.exercises.check`::
+
+    check("Exercise 1", answer, test=cir.exercise_1)
+
+The report's convention is used throughout: poses :math:`(x, y, \theta)` with the heading
+measured clockwise (its eq. 2, erratum C1), controls :math:`(s_{sx}, s_{dx})`, the wheels
+:data:`WHEELS` apart.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from probrob.kinematics import (
+    arc_update,
+    cir_pose_matrix,
+    cir_radius_angle,
+    cir_state_function,
+    cir_state_jacobians,
+    diff_drive_odometry,
+)
+
+__all__ = ["exercise_1", "exercise_2", "exercise_3", "exercise_4"]
+
+WHEELS = 0.4
+"""The distance :math:`l` between the wheels in every exercise, m."""
+FLIP = np.array([1.0, 1.0, -1.0])
+"""The map :math:`M` between the report's and the book's poses: the heading changes sign."""
+
+EX1_S_SX = 0.2
+"""Exercise 1: the left wheel's arc, m."""
+EX2_BOOK_POSE = (1.0, 2.0, 0.5)
+"""Exercise 2: the start pose in the book's convention (heading counter-clockwise)."""
+EX2_U = (0.3, 0.5)
+"""Exercise 2: the wheel arcs :math:`(s_{sx}, s_{dx})`, m."""
+EX3_K = 2e-4
+"""Exercise 3: the wheel-noise variance per metre of travel, m."""
+EX3_U = (1.0, 1.0)
+"""Exercise 3: the straight step's wheel arcs, m."""
+EX4_POSE = (1.0, 0.5, 0.6)
+"""Exercise 4: the robot's pose in the report's convention."""
+EX4_U = (0.6, 0.3)
+"""Exercise 4: the wheel arcs, m."""
+
+
+def _vector(answer, n, what):
+    value = np.asarray(answer, dtype=float)
+    if value.shape != (n,):
+        return None, f"{what}: expected {n} numbers, got shape {value.shape}"
+    if not np.all(np.isfinite(value)):
+        return None, f"{what} contains NaN or infinity"
+    return value, None
+
+
+def _number(answer):
+    try:
+        value = float(answer)
+    except (TypeError, ValueError):
+        return None, f"expected one number, got {type(answer).__name__}"
+    if not np.isfinite(value):
+        return None, "the answer is NaN or infinite"
+    return value, None
+
+
+def _cir_in_robot_frame(u):
+    """The CIR of one step in the robot's frame (x ahead, y to the left), eq. 6."""
+    r, _ = cir_radius_angle(u, WHEELS)
+    return np.array([0.0, -(r + WHEELS / 2)])
+
+
+def exercise_1(answer):
+    """A spin in place: ``answer = (s_dx, (cx, cy))``.
+
+    ``s_dx`` turns the robot on the spot when the left wheel travels :data:`EX1_S_SX`;
+    ``(cx, cy)`` is where the CIR is then, in the robot's frame (x ahead, y to the left), m.
+    """
+    try:
+        s_dx, cir = answer
+    except (TypeError, ValueError):
+        return "give a pair: (s_dx, (cx, cy))"
+    s_dx, problem = _number(s_dx)
+    if problem:
+        return f"s_dx: {problem}"
+    start = np.array([1.0, 2.0, 0.5])
+    end = cir_state_function(start, [EX1_S_SX, s_dx], WHEELS)
+    moved = float(np.hypot(*(end[:2] - start[:2])))
+    if moved > 1e-12:
+        return f"with this s_dx the robot's position still moves by {moved:.3f} m"
+    if abs(end[2] - start[2]) < 1e-12:
+        return "with this s_dx the robot does not turn at all"
+    cir, problem = _vector(cir, 2, "the CIR")
+    if problem:
+        return problem
+    truth = _cir_in_robot_frame([EX1_S_SX, s_dx])
+    if not np.allclose(cir, truth, rtol=0, atol=1e-9):
+        return "s_dx is right; the CIR is not where you put it"
+    return None
+
+
+def exercise_2(answer):
+    """From the book's pose to the report's and back: the book's pose after the step.
+
+    ``answer`` is :math:`(x', y', \\varphi')` in the book's convention, reached from
+    :data:`EX2_BOOK_POSE` with the wheel arcs :data:`EX2_U`.
+    """
+    value, problem = _vector(answer, 3, "the pose")
+    if problem:
+        return problem
+    ds, dphi, _ = diff_drive_odometry(*EX2_U, WHEELS)
+    truth = arc_update(np.array(EX2_BOOK_POSE), ds, dphi)
+    if np.allclose(value, truth, rtol=0, atol=1e-9):
+        return None
+    if np.allclose(value, truth * FLIP, rtol=0, atol=1e-9):
+        return "this is the book's pose in the report's convention: flip the heading back"
+    if np.allclose(value, cir_state_function(EX2_BOOK_POSE, EX2_U, WHEELS), rtol=0, atol=1e-9):
+        return "the report's f was fed the book's pose as it is: map it with M first (erratum C1)"
+    if np.allclose(value[:2], truth[:2], rtol=0, atol=1e-9):
+        return "the position is right, the heading is not"
+    if np.allclose(value[2], truth[2], rtol=0, atol=1e-9):
+        return "the heading is right, the position is not"
+    return "neither the position nor the heading is the one the book's model reaches"
+
+
+def exercise_3(answer):
+    """The variance of the heading after one straight step, rad², with the wheel noise
+    :math:`Q = \\mathrm{diag}(k|s_{sx}|, k|s_{dx}|)`, :math:`k` = :data:`EX3_K`, from a
+    perfectly known pose."""
+    value, problem = _number(answer)
+    if problem:
+        return problem
+    _, W = cir_state_jacobians(np.zeros(3), EX3_U, WHEELS)
+    Q = np.diag(EX3_K * np.abs(EX3_U))
+    truth = float((W @ Q @ W.T)[2, 2])
+    if np.isclose(value, np.sqrt(truth), rtol=1e-6):
+        return "that is a standard deviation: the question asks for the variance"
+    if np.isclose(value, truth / 2, rtol=1e-6):
+        return "both wheels' errors turn the robot, not only one"
+    if np.isclose(value, truth * (180 / np.pi) ** 2, rtol=1e-6):
+        return "give the variance in rad², not deg²"
+    if not np.isclose(value, truth, rtol=1e-6, atol=0):
+        return "too large" if value > truth else "too small"
+    return None
+
+
+def exercise_4(answer):
+    """The CIR of the step :data:`EX4_U` from the report's pose :data:`EX4_POSE`, in
+    world coordinates :math:`(x, y)`, m."""
+    value, problem = _vector(answer, 2, "the CIR")
+    if problem:
+        return problem
+    frame = cir_pose_matrix(np.array(EX4_POSE))
+    truth = (frame @ [*_cir_in_robot_frame(EX4_U), 1.0])[:2]
+    if np.allclose(value, truth, rtol=0, atol=1e-9):
+        return None
+    book_frame = cir_pose_matrix(np.array(EX4_POSE) * FLIP)  # the usual R(θ): erratum C1
+    if np.allclose(value, (book_frame @ [*_cir_in_robot_frame(EX4_U), 1.0])[:2], atol=1e-9):
+        return "the report's rotation matrix is the transpose of the usual one (erratum C1)"
+    r, _ = cir_radius_angle(EX4_U, WHEELS)
+    if np.allclose(value, (frame @ [0.0, -r, 1.0])[:2], atol=1e-9):
+        return "r is measured from the right wheel, not from the middle of the axle"
+    return "this point is not the centre that both wheels circle"

@@ -1,0 +1,94 @@
+"""The checks of the Monte Carlo localization chapter's exercises (each computes the truth
+with the library and returns ``None`` when the answer is right, else what is wrong)."""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.stats import norm
+
+from ..mcl import kld_sample_size
+from ..motion import odometry_deltas
+
+
+def _number(answer, what="a number"):
+    value = np.asarray(answer, dtype=float)
+    if value.shape != ():
+        raise TypeError(f"expected {what}")
+    return float(value)
+
+
+def exercise_1(answer) -> str | None:
+    """k = 40, ε = 0.05, δ = 0.01: the KLD bound of Table 8.4, rounded up."""
+    got = _number(answer, "one integer")
+    want = kld_sample_size(40, 0.05, 0.01)
+    if got == want:
+        return None
+    if got == kld_sample_size(40, 0.05, float(norm.sf(0.99))):
+        return "that is z = 0.99 (amcl's pf_z read as a probability): use the quantile z_{1-δ}"
+    if got == want - 1 or (got != int(got) and abs(got - want) < 1):
+        return "round up: the bound is a smallest number of particles"
+    return "recompute (k-1)/(2ε) · {1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) z_{1-δ}}³"
+
+
+def exercise_2(answer) -> str | None:
+    """Weights (0.05, 0.42, 0.18, 0.35), M = 10: the floor and ceiling of M·w."""
+    try:
+        low, high = (np.asarray(part, dtype=float) for part in answer)
+    except (TypeError, ValueError):
+        return "answer with two tuples: (lowest counts, highest counts)"
+    w = np.array([0.05, 0.42, 0.18, 0.35])
+    if low.shape != (4,) or high.shape != (4,):
+        return "give four counts in each tuple, one per particle"
+    if np.array_equal(low, np.rint(10 * w)) or np.array_equal(high, np.rint(10 * w)):
+        return "the count is not M·w rounded: it is one of floor(M·w) and ceil(M·w)"
+    if not np.array_equal(low, np.floor(10 * w)):
+        return "the lowest counts are not right"
+    if not np.array_equal(high, np.ceil(10 * w)):
+        return "the highest counts are not right"
+    return None
+
+
+def exercise_3(answer) -> str | None:
+    """w_slow = 2e-4, w_fast = 1.5e-4: max(0, 1 - w_fast/w_slow)."""
+    got = _number(answer, "one probability")
+    want = max(0.0, 1.0 - 1.5e-4 / 2.0e-4)
+    if not 0.0 <= got <= 1.0:
+        return "a probability lies between 0 and 1"
+    if abs(got - (1.0 - 2.0e-4 / 1.5e-4)) < 1e-9 or abs(got - 1.5e-4 / 2.0e-4) < 1e-9:
+        return "it is 1 - w_fast / w_slow (Table 8.3, line 14)"
+    if abs(got - want) > 1e-3 * want:
+        return "not the probability of line 14 of Table 8.3"
+    return None
+
+
+def exercise_4(answer) -> str | None:
+    """Weights (1, 1, 1, 5): N_eff = 1 / Σ w̃² of the normalised weights."""
+    got = _number(answer)
+    w = np.array([1.0, 1.0, 1.0, 5.0])
+    want = 1.0 / np.sum((w / w.sum()) ** 2)
+    if abs(got - 1.0 / np.sum(w**2)) < 1e-9:
+        return "normalise the weights first"
+    if abs(got - 4.0) < 1e-9:
+        return "the weights are not equal: N_eff is less than N"
+    if abs(got - want) > 1e-3 * want:
+        return "N_eff = 1 / Σ w̃ᵢ² with w̃ the normalised weights"
+    return None
+
+
+def exercise_5(answer) -> str | None:
+    """Odometry (0, 0, 0) → (−0.004, 0.001, 0.5), α1 = 0.1, α2 = 0: (book σ, amcl σ) of δrot1."""
+    try:
+        book, amcl = (float(np.asarray(a, dtype=float)) for a in answer)
+    except (TypeError, ValueError):
+        return "answer with two numbers: (book, amcl)"
+    r1, _, _ = odometry_deltas(np.array([0.0, 0.0, 0.0]), np.array([-0.004, 0.001, 0.5]))
+    want = float(np.sqrt(0.1) * abs(r1))
+    if abs(book - 0.1 * float(r1) ** 2) < 1e-9:
+        return "the book's term is a variance; the standard deviation is its square root"
+    if abs(book - np.sqrt(0.1) * 0.5) < 1e-9:
+        return "δrot1 is the direction of the translation, not the turn"
+    if abs(book - want) > 1e-3 * want:
+        return "the book's value is not right: compute δrot1 with odometry_deltas"
+    if amcl != 0.0:
+        return "amcl's value is not right: what does amcl do below 1 cm of translation?"
+    return None

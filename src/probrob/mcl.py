@@ -1,0 +1,766 @@
+r"""Monte Carlo localization: particle filters over an occupancy grid (*Probabilistic Robotics*, ch. 8).
+
+Holds MCL (Table 8.2), augmented MCL (Table 8.3), KLD-sampling MCL (Table 8.4), the low-variance
+sampler (Table 4.4), uniform initial particles, a pose estimate for multimodal particle sets, the
+effective sample size and a runner that collects a whole run. Does not hold the models it uses:
+the odometry motion model is :mod:`probrob.motion` (Table 5.6), the range-finder models are
+:mod:`probrob.sensors` (Tables 6.1, 6.3), the map and ray casting are :mod:`probrob.maps`.
+
+Conventions: particles have shape ``(N, 3)``; ``u`` is an odometry pair ``(2, 3)`` =
+:math:`(\bar x_{t-1}, \bar x_t)` in the odometry's own frame (only its relative motion is used);
+``z`` holds the ranges ``(K,)`` of the beams at ``beam_angles`` ``(K,)``; ``alpha`` the four
+odometry noise parameters in the variance form; ``params`` a
+:class:`~probrob.sensors.BeamModelParams`. Weights are computed as log-likelihoods and normalised
+by log-sum-exp, so that a scan of many beams never underflows. A particle that leaves the map has
+weight zero (log-likelihood :math:`-\infty`).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from scipy.special import logsumexp
+from scipy.stats import norm
+
+from . import _validation as check
+from .angles import wrap_angle
+from .maps import _check_grid
+from .motion import sample_motion_model_odometry
+from .sensors import (
+    BeamModelParams,
+    beam_range_finder_model,
+    likelihood_field_range_finder_model,
+)
+
+__all__ = [
+    "MCLRun",
+    "PoseEstimate",
+    "augmented_mcl",
+    "effective_sample_size",
+    "estimate_pose",
+    "kld_sample_size",
+    "kld_sampling_mcl",
+    "low_variance_sampler",
+    "mcl",
+    "measurement_log_weights",
+    "occupied_bins",
+    "run_mcl",
+    "uniform_particles",
+]
+
+_SENSORS = ("likelihood_field", "beam")
+
+
+# ---------------------------------------------------------------------- argument checks
+def _particles(value, name: str = "particles") -> np.ndarray:
+    p = check.poses(value, name)
+    if p.ndim != 2 or p.shape[0] == 0:
+        raise ValueError(f"{name} must have shape (N, 3) with N >= 1, got {p.shape}")
+    return p
+
+
+def _odometry_pair(u) -> np.ndarray:
+    u = check.finite(u, "u")
+    if u.shape != (2, 3):
+        raise ValueError(
+            f"u must be an odometry pair (x̄_{{t-1}}, x̄_t) of shape (2, 3), got {u.shape}"
+        )
+    return u
+
+
+def _scan(z, beam_angles) -> tuple[np.ndarray, np.ndarray]:
+    z = check.finite(z, "z")
+    angles = check.finite(beam_angles, "beam_angles")
+    if angles.ndim != 1 or angles.size == 0:
+        raise ValueError(f"beam_angles must have shape (K,) with K >= 1, got {angles.shape}")
+    if z.shape != angles.shape:
+        raise ValueError(
+            f"z must hold one range per beam: shape {angles.shape}, got {z.shape} "
+            "(beam_angles has the shape (K,))"
+        )
+    if np.any(z < 0):
+        raise ValueError(f"z must be non-negative ranges, got min {z.min()!r}")
+    return z, angles
+
+
+def _sensor(sensor) -> str:
+    return check.choice(sensor, "sensor", _SENSORS)
+
+
+def _params(params) -> BeamModelParams:
+    if not isinstance(params, BeamModelParams):
+        raise ValueError(f"params must be a BeamModelParams, got {type(params).__name__}")
+    return params
+
+
+def _exponent(exponent) -> float:
+    value = check.in_range(exponent, "exponent", 0.0, 1.0)
+    if value == 0.0:
+        raise ValueError("exponent must lie in (0, 1]: an exponent of 0 ignores the scan")
+    return value
+
+
+def _weights(weights, name: str = "weights") -> np.ndarray:
+    """Normalised weights, shape (N,): finite, non-negative, not all zero."""
+    w = check.as_float_array(weights, name)
+    if w.ndim != 1 or w.size == 0:
+        raise ValueError(f"{name} must have shape (N,) with N >= 1, got {w.shape}")
+    if np.any(np.isnan(w)):
+        raise ValueError(f"{name} contains NaN")
+    if np.any(w < 0):
+        raise ValueError(f"{name} must be non-negative, got min {w.min()!r}")
+    if np.any(np.isinf(w)):
+        raise ValueError(f"{name} must be finite (an infinite weight cannot be normalised)")
+    total = w.sum()
+    if not total > 0:
+        raise ValueError(f"{name} are all zero: there is no particle to resample from")
+    if not np.isfinite(total):
+        w = w / w.max()  # the sum overflowed; the ratios are what matter
+        total = w.sum()
+    return w / total
+
+
+def _normalise_log(log_w: np.ndarray) -> np.ndarray:
+    """exp(log_w) / sum, shape (N,). When every weight is zero (log -inf) the scan says
+    nothing about the particles: equal weights, the prior kept (as amcl does)."""
+    if not np.any(np.isfinite(log_w)):
+        return np.full(log_w.shape, 1.0 / log_w.size)
+    return np.exp(log_w - logsumexp(log_w))
+
+
+# ---------------------------------------------------------------------- resampling
+def low_variance_sampler(weights, size=None, rng=None) -> np.ndarray:
+    r"""Return the indices drawn by the low-variance sampler (*Probabilistic Robotics*, Table 4.4).
+
+    One random number :math:`r \sim U(0, M^{-1})` (line 3) and the :math:`M` equally spaced
+    pointers :math:`U = r + (m - 1) M^{-1}` (line 7); pointer :math:`m` selects the first
+    particle :math:`i` whose cumulative weight :math:`c = \sum_{j \le i} w^{[j]}` reaches
+    :math:`U` (lines 4–5 and 8–11). Particle :math:`i` is drawn :math:`\lfloor M w^{[i]} \rfloor` or
+    :math:`\lceil M w^{[i]} \rceil` times, and a particle of weight zero never.
+
+    Parameters
+    ----------
+    weights : array_like, shape (N,)
+        Importance weights, finite and non-negative, not all zero (normalised here).
+    size : int, optional
+        :math:`M`, the number of indices to draw (default ``N``).
+    rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+
+    Returns
+    -------
+    indices : ndarray of int, shape (M,)
+        Sorted indices into ``weights``.
+    """
+    w = _weights(weights)
+    m = w.size if size is None else check.count(size, "size", 1)
+    gen = check.rng(rng)
+    r = gen.uniform(0.0, 1.0 / m)  # line 3
+    u = r + np.arange(m) / m  # line 7, for every m at once
+    c = np.cumsum(w)  # lines 4 and 10, accumulated
+    c[-1] = 1.0  # the last pointer is < 1: round-off must not push it past the end
+    return np.searchsorted(c, u, side="left")  # lines 8-11: the first i with c_i >= U
+
+
+def effective_sample_size(weights, *, log=False) -> float:
+    r"""Return :math:`N_{eff} = 1 / \sum_i \tilde w_i^2` of normalised weights :math:`\tilde w`.
+
+    *Probabilistic Robotics*, Sec. 4.3.4 (the variance of the weights); ``N`` for equal
+    weights, ``1`` when one particle carries all the weight.
+
+    Parameters
+    ----------
+    weights : array_like, shape (N,)
+        Weights (or log-weights with ``log=True``; ``-inf`` allowed there).
+    log : bool
+        ``weights`` are log-weights.
+    """
+    if check.flag(log, "log"):
+        lw = check.as_float_array(weights, "weights")
+        if lw.ndim != 1 or lw.size == 0 or np.any(np.isnan(lw)) or np.any(lw == np.inf):
+            raise ValueError("weights (log) must have shape (N,) with no NaN and no +inf")
+        if not np.isfinite(lw).any():
+            raise ValueError("weights are all zero (log -inf): N_eff is undefined")
+        w = _normalise_log(lw)
+    else:
+        w = _weights(weights)
+    return float(1.0 / np.sum(w * w))
+
+
+# ---------------------------------------------------------------------- initial particles
+def uniform_particles(grid, n, rng=None, *, free=None) -> np.ndarray:
+    r"""Draw ``n`` poses uniformly over the free space of a map, headings uniform in :math:`[-\pi, \pi)`.
+
+    The prior of global localization (*Probabilistic Robotics*, Sec. 8.3). A free cell is drawn
+    uniformly (all cells have the same area), then a point uniformly inside it.
+
+    Parameters
+    ----------
+    grid : OccupancyGrid
+    n : int
+        Number of particles (>= 1).
+    rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+    free : array_like of bool, shape (H, W), optional
+        The cells to draw from (default: the grid's :attr:`~probrob.maps.OccupancyGrid.free`
+        cells; for a map built from scans, those its beams saw, so that no particle starts
+        in unexplored space).
+
+    Returns
+    -------
+    particles : ndarray, shape (n, 3)
+    """
+    grid = _check_grid(grid)
+    n = check.count(n, "n", 1)
+    gen = check.rng(rng)
+    if free is None:
+        mask = grid.free
+    else:
+        mask = np.asarray(free)
+        if mask.dtype != bool or mask.shape != grid.shape:
+            raise ValueError(
+                f"free must be a boolean array of the grid's shape {grid.shape}, "
+                f"got {mask.dtype} {mask.shape}"
+            )
+    cells = np.flatnonzero(mask)
+    if cells.size == 0:
+        raise ValueError("the map has no free cell to draw particles from")
+    pick = cells[gen.integers(cells.size, size=n)]
+    i, j = np.divmod(pick, grid.shape[1])
+    xy = grid.origin + (np.stack([j, i], axis=-1) + gen.random((n, 2))) * grid.resolution
+    theta = gen.uniform(-np.pi, np.pi, size=n)
+    return np.column_stack([xy, theta])
+
+
+# ---------------------------------------------------------------------- the measurement step
+def measurement_log_weights(
+    particles, z, grid, beam_angles, params, *, sensor="likelihood_field", exponent=1.0
+) -> np.ndarray:
+    r"""Return :math:`\log p(z_t \mid x_t^{[m]}, m)` for every particle (Table 8.2, line 5).
+
+    The range-finder model is the likelihood field (Table 6.3) or the beam model (Table 6.1),
+    with the beams taken as independent; ``exponent`` :math:`< 1` tempers the product
+    (:math:`p^{\,exponent}`), the book's remedy for the overconfidence of independent beams
+    (Sec. 6.3.4). Particles outside the map get :math:`-\infty`.
+
+    Parameters
+    ----------
+    particles : array_like, shape (N, 3)
+    z : array_like, shape (K,)
+        Ranges (m); readings at ``params.max_range`` are max-range readings.
+    grid : OccupancyGrid
+    beam_angles : array_like, shape (K,)
+    params : BeamModelParams
+    sensor : {"likelihood_field", "beam"}
+    exponent : float in (0, 1]
+
+    Returns
+    -------
+    log_w : ndarray, shape (N,)
+    """
+    x = _particles(particles)
+    z, angles = _scan(z, beam_angles)
+    grid = _check_grid(grid)
+    p = _params(params)
+    sensor = _sensor(sensor)
+    exponent = _exponent(exponent)
+    return _log_weights(x, z, grid, angles, p, sensor, exponent)
+
+
+def _log_weights(x, z, grid, angles, params, sensor, exponent):
+    inside = grid.contains(x[:, :2])
+    log_w = np.full(x.shape[0], -np.inf)
+    if inside.any():
+        model = (
+            likelihood_field_range_finder_model
+            if sensor == "likelihood_field"
+            else beam_range_finder_model
+        )
+        log_w[inside] = exponent * np.asarray(
+            model(z, x[inside], grid, angles, params, log=True)
+        ).reshape(-1)
+    return log_w
+
+
+def _predict(x, u, alpha, gen):
+    """Table 8.2, line 4: x_t^[m] ~ p(x_t | u_t, x_{t-1}^[m]), the odometry model (Table 5.6)."""
+    return sample_motion_model_odometry(u, x, alpha, rng=gen)
+
+
+def _checked(particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng):
+    return (
+        _particles(particles),
+        _odometry_pair(u),
+        *_scan(z, beam_angles),
+        _check_grid(grid),
+        check.alphas(alpha, "alpha", 4),
+        _params(params),
+        _sensor(sensor),
+        _exponent(exponent),
+        check.rng(rng),
+    )
+
+
+# ---------------------------------------------------------------------- Table 8.2
+def mcl(
+    particles,
+    u,
+    z,
+    grid,
+    beam_angles,
+    alpha,
+    params,
+    *,
+    sensor="likelihood_field",
+    exponent=1.0,
+    rng=None,
+) -> np.ndarray:
+    r"""One step of Monte Carlo localization (*Probabilistic Robotics*, Table 8.2).
+
+    For every particle: a motion sample from the odometry model (line 4), its weight
+    :math:`p(z_t \mid x_t^{[m]}, m)` (line 5); then :math:`M` particles drawn with probability
+    proportional to their weights (lines 8–11), by the low-variance sampler (Table 4.4) rather
+    than independent draws.
+
+    Parameters
+    ----------
+    particles : array_like, shape (N, 3)
+        :math:`\mathcal X_{t-1}`, equally weighted.
+    u : array_like, shape (2, 3)
+        Odometry pair :math:`(\bar x_{t-1}, \bar x_t)`.
+    z : array_like, shape (K,)
+        Ranges of the scan (m).
+    grid : OccupancyGrid
+    beam_angles : array_like, shape (K,)
+    alpha : array_like, shape (4,)
+        Odometry noise :math:`\alpha_1 \ldots \alpha_4` (variance form).
+    params : BeamModelParams
+    sensor : {"likelihood_field", "beam"}
+    exponent : float in (0, 1], optional
+        Tempering of the beam product (see :func:`measurement_log_weights`); 1 is the book's.
+    rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+
+    Returns
+    -------
+    particles : ndarray, shape (N, 3)
+        :math:`\mathcal X_t`, equally weighted.
+
+    Notes
+    -----
+    When every particle has weight zero (each left the map, or the scan has probability
+    zero at each of them, as under a mixture without ``z_rand``), the weights carry no
+    information: the moved particles are kept with equal weights, as amcl does. A filter
+    in that state is lost; :func:`augmented_mcl` is the one that recovers.
+    """
+    x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
+        particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
+    )
+    x_bar = _predict(x, u, alpha, gen)  # line 4
+    w = _normalise_log(_log_weights(x_bar, z, grid, angles, p, sensor, exponent))  # line 5
+    return x_bar[low_variance_sampler(w, rng=gen)]  # lines 8-11
+
+
+# ---------------------------------------------------------------------- Table 8.3
+def augmented_mcl(
+    particles,
+    u,
+    z,
+    grid,
+    beam_angles,
+    alpha,
+    params,
+    w_slow,
+    w_fast,
+    *,
+    alpha_slow=0.001,
+    alpha_fast=0.1,
+    sensor="likelihood_field",
+    exponent=1.0,
+    free=None,
+    rng=None,
+) -> tuple[np.ndarray, float, float]:
+    r"""One step of augmented MCL, with random particles for recovery (*Probabilistic Robotics*, Table 8.3).
+
+    As :func:`mcl`, and the running averages of the mean measurement likelihood
+    :math:`w_{avg} = M^{-1}\sum_m w_t^{[m]}` (line 9):
+    :math:`w_{slow} \mathrel{+}= \alpha_{slow}(w_{avg} - w_{slow})`,
+    :math:`w_{fast} \mathrel{+}= \alpha_{fast}(w_{avg} - w_{fast})` (lines 11–12). Each new
+    particle is, with probability :math:`\max(0, 1 - w_{fast}/w_{slow})`, a pose drawn
+    uniformly over the free space, and otherwise drawn by weight (lines 14–18). The number of
+    random particles is drawn once (binomial); the others come from the low-variance sampler.
+    When every particle has weight zero, the whole set is drawn anew uniformly (the book's
+    ratio :math:`w_{fast}/w_{slow}` is then undefined; a lost filter re-localizes). ROS amcl
+    also resets both averages to zero after each injection; this function follows the book.
+
+    Parameters
+    ----------
+    particles, u, z, grid, beam_angles, alpha, params
+        As :func:`mcl`.
+    w_slow, w_fast : float
+        The averages returned by the previous call (``0.0`` at the start), on the likelihood's
+        linear scale (a 60-beam likelihood is of order :math:`10^{\pm 40}`; both must be finite).
+    alpha_slow, alpha_fast : float
+        Decay rates, :math:`0 \le \alpha_{slow} \ll \alpha_{fast} \le 1`.
+    sensor, exponent, rng
+        As :func:`mcl`.
+    free : array_like of bool, shape (H, W), optional
+        Where random particles are drawn (see :func:`uniform_particles`).
+
+    Returns
+    -------
+    particles : ndarray, shape (N, 3)
+    w_slow, w_fast : float
+    """
+    x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
+        particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
+    )
+    w_slow = check.finite(w_slow, "w_slow")
+    w_fast = check.finite(w_fast, "w_fast")
+    if w_slow.ndim or w_fast.ndim or w_slow < 0 or w_fast < 0:
+        raise ValueError(f"w_slow and w_fast must be scalars >= 0, got {w_slow!r}, {w_fast!r}")
+    a_slow = check.in_range(alpha_slow, "alpha_slow", 0.0, 1.0)
+    a_fast = check.in_range(alpha_fast, "alpha_fast", 0.0, 1.0)
+    if not a_slow < a_fast:
+        raise ValueError(f"need alpha_slow < alpha_fast, got {a_slow!r} and {a_fast!r}")
+    n = x.shape[0]
+    x_bar = _predict(x, u, alpha, gen)  # line 6
+    log_w = _log_weights(x_bar, z, grid, angles, p, sensor, exponent)  # line 7
+    w_avg = math.exp(logsumexp(log_w) - math.log(n)) if np.isfinite(log_w).any() else 0.0
+    if not math.isfinite(w_avg):
+        raise ValueError(
+            "the mean measurement likelihood w_avg overflows float64 "
+            "(too many beams on a linear scale: use fewer beams or exponent < 1)"
+        )
+    w_slow = float(w_slow) + a_slow * (w_avg - float(w_slow))  # line 11
+    w_fast = float(w_fast) + a_fast * (w_avg - float(w_fast))  # line 12
+    p_random = max(0.0, 1.0 - w_fast / w_slow) if w_slow > 0 else 0.0  # line 14
+    n_random = int(gen.binomial(n, p_random)) if p_random > 0 else 0
+    if n_random == n or not np.isfinite(log_w).any():
+        return uniform_particles(grid, n, gen, free=free), w_slow, w_fast
+    w = _normalise_log(log_w)
+    drawn = x_bar[low_variance_sampler(w, size=n - n_random, rng=gen)]  # lines 17-18
+    if n_random:
+        drawn = np.concatenate([drawn, uniform_particles(grid, n_random, gen, free=free)])
+    return drawn, w_slow, w_fast
+
+
+# ---------------------------------------------------------------------- Table 8.4
+def kld_sample_size(k, epsilon=0.05, delta=0.01) -> int:
+    r"""Return the KLD bound :math:`M_\chi` on the number of particles (*Probabilistic Robotics*, Table 8.4).
+
+    .. math::
+        M_\chi = \frac{k-1}{2\varepsilon}\left\{1 - \frac{2}{9(k-1)}
+                 + \sqrt{\frac{2}{9(k-1)}}\, z_{1-\delta}\right\}^3
+
+    (Fox 2003): with probability :math:`1 - \delta`, the Kullback–Leibler divergence between
+    the sample-based maximum-likelihood estimate and the true posterior over :math:`k` occupied
+    bins stays below :math:`\varepsilon`. :math:`z_{1-\delta}` is the upper
+    :math:`1 - \delta` quantile of the standard normal (2.326 for :math:`\delta = 0.01`), not the
+    probability itself.
+
+    Parameters
+    ----------
+    k : int
+        Number of occupied bins, ``k >= 2``.
+    epsilon : float
+        Error bound :math:`\varepsilon > 0`.
+    delta : float
+        :math:`\delta \in (0, 1)`.
+
+    Returns
+    -------
+    m : int
+        :math:`\lceil M_\chi \rceil`.
+    """
+    k = check.count(k, "k", 2)
+    epsilon = check.positive_scalar(epsilon, "epsilon")
+    delta = check.in_range(delta, "delta", 0.0, 1.0)
+    if not 0.0 < delta < 1.0:
+        raise ValueError(f"delta must lie strictly between 0 and 1, got {delta!r}")
+    z = float(norm.isf(delta))  # z_{1-delta}
+    a = 2.0 / (9.0 * (k - 1))
+    m = (k - 1) / (2.0 * epsilon) * (1.0 - a + math.sqrt(a) * z) ** 3
+    return math.ceil(m)
+
+
+def _bin_ids(x: np.ndarray, bin_size: np.ndarray) -> np.ndarray:
+    """One integer per particle, equal for the particles of the same (x, y, θ) histogram bin."""
+    pose = np.column_stack([x[:, :2], wrap_angle(x[:, 2])])
+    cells = np.floor(pose / bin_size).astype(np.int64)
+    return np.unique(cells, axis=0, return_inverse=True)[1].reshape(-1)
+
+
+def _bin_sizes(bin_size) -> np.ndarray:
+    bins = check.finite(bin_size, "bin_size")
+    if bins.shape != (3,) or np.any(bins <= 0):
+        raise ValueError(f"bin_size must be 3 positive sizes (x, y, θ), got {bin_size!r}")
+    return bins
+
+
+def occupied_bins(particles, bin_size=(0.5, 0.5, np.pi / 18)) -> int:
+    r"""Return :math:`k`, the number of histogram bins that a particle set occupies (Table 8.4).
+
+    Parameters
+    ----------
+    particles : array_like, shape (N, 3)
+    bin_size : array_like, shape (3,)
+        Bin sides in x (m), y (m) and θ (rad); θ is wrapped to :math:`[-\pi, \pi)` first.
+
+    Returns
+    -------
+    k : int
+    """
+    x = _particles(particles)
+    return int(_bin_ids(x, _bin_sizes(bin_size)).max() + 1)
+
+
+def kld_sampling_mcl(
+    particles,
+    u,
+    z,
+    grid,
+    beam_angles,
+    alpha,
+    params,
+    *,
+    epsilon=0.05,
+    delta=0.01,
+    bin_size=(0.5, 0.5, np.pi / 18),
+    n_min=100,
+    n_max=100_000,
+    sensor="likelihood_field",
+    exponent=1.0,
+    rng=None,
+) -> np.ndarray:
+    r"""One step of KLD-sampling MCL, with low-variance resampling (*Probabilistic Robotics*, Table 8.4).
+
+    Table 8.4 draws particles one at a time until their number :math:`M` reaches the bound
+    :math:`M_\chi` of :func:`kld_sample_size` for the :math:`k` histogram bins they occupy.
+    Here the previous particles are moved and weighted once, and the new set is a single
+    low-variance draw (Table 4.4) from them, grown until the bound holds: draw :math:`M`
+    particles, count the bins :math:`k` they occupy, and draw again with
+    :math:`M = M_\chi(k)` while :math:`M < M_\chi(k)`. :math:`M` grows strictly from round to
+    round and is capped at ``n_max``, so the loop ends (:math:`k` itself need not grow with
+    :math:`M`: a larger draw can land in fewer bins). The moved particles' bins are found once;
+    a round costs a low-variance draw, :math:`O(N + M \log N)`, and a count of :math:`M` bin
+    labels, against amcl's :math:`O(NM)` linear searches of the cumulative weights. From a
+    spread-out set the rounds add up to a few times the final :math:`M` in draws. The
+    resampling keeps the low variance that amcl gives up.
+
+    Parameters
+    ----------
+    particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
+        As :func:`mcl`.
+    epsilon, delta : float
+        The KLD bound's :math:`\varepsilon` and :math:`\delta`.
+    bin_size : array_like, shape (3,)
+        Bin sides in x (m), y (m) and θ (rad).
+    n_min, n_max : int
+        Bounds on the number of particles returned (:math:`M_{\chi_{min}}` and a cap).
+
+    Returns
+    -------
+    particles : ndarray, shape (M, 3)
+        ``n_min <= M <= n_max``.
+    """
+    x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
+        particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
+    )
+    kld_sample_size(2, epsilon, delta)  # checks epsilon and delta
+    bins = _bin_sizes(bin_size)
+    n_min = check.count(n_min, "n_min", 1)
+    n_max = check.count(n_max, "n_max", 1)
+    if n_min > n_max:
+        raise ValueError(f"need n_min <= n_max, got {n_min} and {n_max}")
+    x_bar = _predict(x, u, alpha, gen)
+    w = _normalise_log(_log_weights(x_bar, z, grid, angles, p, sensor, exponent))
+    bin_of = _bin_ids(x_bar, bins)  # a drawn particle is a copy: its bin is its source's
+    m = n_min
+    while True:
+        idx = low_variance_sampler(w, size=m, rng=gen)
+        k = int(np.count_nonzero(np.bincount(bin_of[idx])))
+        target = n_min if k < 2 else min(n_max, max(n_min, kld_sample_size(k, epsilon, delta)))
+        if m >= target:
+            return x_bar[idx]
+        m = target
+
+
+# ---------------------------------------------------------------------- estimates
+class PoseEstimate(NamedTuple):
+    """The pose of the heaviest cluster of a particle set (:func:`estimate_pose`)."""
+
+    pose: np.ndarray
+    """Weighted mean (x, y, θ) of the cluster, shape (3,); θ by circular mean."""
+    fraction: float
+    """The share of the total weight inside the cluster (1 for a unimodal, converged set)."""
+
+
+def estimate_pose(particles, weights=None, *, radius=0.5) -> PoseEstimate:
+    r"""Return the pose of the heaviest cluster of particles, right for a multimodal set.
+
+    The mean of a multimodal particle set lies between its modes, often inside a wall. Here
+    the particles are binned in (x, y) at ``radius``; the block of 3 × 3 bins that holds the
+    most weight seeds the cluster (a block, so that a mode split by bin edges is not
+    outweighed by a smaller one that fits in one bin); the cluster holds every particle
+    within ``2·radius`` of the block's weighted mean, in x and y; the estimate is the
+    cluster's weighted mean (circular in θ). Compare amcl, which reports the mean of its
+    heaviest k-d-tree cluster.
+
+    Parameters
+    ----------
+    particles : array_like, shape (N, 3)
+    weights : array_like, shape (N,), optional
+        Default: equal weights.
+    radius : float
+        Cluster scale (m), > 0.
+
+    Returns
+    -------
+    PoseEstimate
+    """
+    x = _particles(particles)
+    w = np.full(x.shape[0], 1.0 / x.shape[0]) if weights is None else _weights(weights)
+    if w.size != x.shape[0]:
+        raise ValueError(f"weights must have shape ({x.shape[0]},), got {w.shape}")
+    radius = check.positive_scalar(radius, "radius")
+    limit = 2.0**40  # bins far beyond any map: the clip keeps the integer codes exact
+    cells = np.clip(np.floor(x[:, :2] / radius), -limit, limit).astype(np.int64)
+    keys, inverse = np.unique(cells, axis=0, return_inverse=True)
+    inverse = inverse.reshape(-1)
+    mass = np.bincount(inverse, weights=w, minlength=len(keys))
+    # one sorted integer code per occupied bin (np.unique sorts the rows lexicographically)
+    shifted = keys - keys.min(axis=0) + 1
+    span = int(shifted[:, 1].max()) + 2
+    code = shifted[:, 0] * span + shifted[:, 1]
+    block = np.zeros(len(keys))
+    for di in (-1, 0, 1):
+        for dj in (-1, 0, 1):
+            target = code + di * span + dj
+            pos = np.minimum(np.searchsorted(code, target), len(code) - 1)
+            block += np.where(code[pos] == target, mass[pos], 0.0)
+    seed_key = keys[int(np.argmax(block))]
+    seed = np.all(np.abs(cells - seed_key) <= 1, axis=1)
+    centre = np.average(x[seed, :2], axis=0, weights=w[seed])
+    near = np.all(np.abs(x[:, :2] - centre) <= 2.0 * radius, axis=1)
+    wc = w[near]
+    xy = np.average(x[near, :2], axis=0, weights=wc)
+    theta = math.atan2(
+        float(np.sum(wc * np.sin(x[near, 2]))), float(np.sum(wc * np.cos(x[near, 2])))
+    )
+    return PoseEstimate(np.array([xy[0], xy[1], theta]), float(wc.sum()))
+
+
+# ---------------------------------------------------------------------- a whole run
+@dataclass(frozen=True, eq=False)
+class MCLRun:
+    """What :func:`run_mcl` collects over a run of T steps (all arrays read-only)."""
+
+    estimates: np.ndarray
+    """(T + 1, 3): :func:`estimate_pose` of the initial set, then after each step."""
+    fraction: np.ndarray
+    """(T + 1,): the weight share of the estimate's cluster."""
+    n_particles: np.ndarray
+    """(T + 1,): particles in each set."""
+    w_slow: np.ndarray
+    """(T + 1,): augmented MCL's slow average (zeros for the other methods)."""
+    w_fast: np.ndarray
+    """(T + 1,): augmented MCL's fast average (zeros for the other methods)."""
+    seconds: np.ndarray
+    """(T,): wall-clock time of each step."""
+    snapshots: dict
+    """Step index -> particles (n, 3) kept at the steps asked for."""
+
+
+def run_mcl(
+    particles,
+    odometry,
+    scans,
+    grid,
+    beam_angles,
+    alpha,
+    params,
+    *,
+    method="mcl",
+    keep=(),
+    rng=None,
+    on_step: Callable | None = None,
+    **options,
+) -> MCLRun:
+    r"""Run a particle filter over a log and collect its estimates.
+
+    Parameters
+    ----------
+    particles : array_like, shape (N, 3)
+        The initial set (e.g. :func:`uniform_particles`, or a cloud around a known start).
+    odometry : array_like, shape (T, 2, 3)
+        One odometry pair per step.
+    scans : array_like, shape (T, K)
+        The scan at the end of each step.
+    grid, beam_angles, alpha, params
+        As :func:`mcl`.
+    method : {"mcl", "augmented", "kld"}
+        :func:`mcl`, :func:`augmented_mcl` or :func:`kld_sampling_mcl`.
+    keep : iterable of int
+        Steps whose particle sets are kept in :attr:`MCLRun.snapshots` (0 = the initial set).
+    rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+    on_step : callable, optional
+        ``on_step(t, particles)`` after step ``t`` (1-based) returns the particles to go on
+        with (e.g. to teleport the robot for a kidnapping test), or ``None`` to keep them.
+    **options
+        Passed to the step function (``sensor``, ``exponent``, ``alpha_slow``, ``epsilon``, …).
+
+    Returns
+    -------
+    MCLRun
+    """
+    x = _particles(particles)
+    u_all = check.finite(odometry, "odometry")
+    z_all = check.finite(scans, "scans")
+    if u_all.ndim != 3 or u_all.shape[1:] != (2, 3):
+        raise ValueError(f"odometry must have shape (T, 2, 3), got {u_all.shape}")
+    if z_all.ndim != 2 or z_all.shape[0] != u_all.shape[0]:
+        raise ValueError(
+            f"scans must have shape (T, K) with T = {u_all.shape[0]} (odometry's), got {z_all.shape}"
+        )
+    method = check.choice(method, "method", ("mcl", "augmented", "kld"))
+    gen = check.rng(rng)
+    keep = {check.count(k, "keep", 0) for k in keep}
+    n_steps = u_all.shape[0]
+    est = np.empty((n_steps + 1, 3))
+    frac = np.empty(n_steps + 1)
+    count = np.empty(n_steps + 1, dtype=np.int64)
+    w_slow_t = np.zeros(n_steps + 1)
+    w_fast_t = np.zeros(n_steps + 1)
+    seconds = np.empty(n_steps)
+    snapshots = {}
+    w_slow = w_fast = 0.0
+
+    def record(t, x):
+        e = estimate_pose(x)
+        est[t], frac[t], count[t] = e.pose, e.fraction, x.shape[0]
+        w_slow_t[t], w_fast_t[t] = w_slow, w_fast
+        if t in keep:
+            snapshots[t] = x.copy()
+
+    record(0, x)
+    for t in range(n_steps):
+        start = time.perf_counter()
+        args = (x, u_all[t], z_all[t], grid, beam_angles, alpha, params)
+        if method == "mcl":
+            x = mcl(*args, rng=gen, **options)
+        elif method == "augmented":
+            x, w_slow, w_fast = augmented_mcl(*args, w_slow, w_fast, rng=gen, **options)
+        else:
+            x = kld_sampling_mcl(*args, rng=gen, **options)
+        seconds[t] = time.perf_counter() - start
+        if on_step is not None:
+            replaced = on_step(t + 1, x)
+            if replaced is not None:
+                x = _particles(replaced)
+        record(t + 1, x)
+    for arr in (est, frac, count, w_slow_t, w_fast_t, seconds):
+        arr.flags.writeable = False
+    return MCLRun(est, frac, count, w_slow_t, w_fast_t, seconds, snapshots)

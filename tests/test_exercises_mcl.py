@@ -1,0 +1,84 @@
+"""The Monte Carlo localization chapter's exercise checks say "correct" to the right answer and
+"not yet" to the typical wrong ones (``probrob.exercises.mcl``)."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.stats import chi2, norm
+
+from probrob.exercises import mcl, verdict
+from probrob.mcl import kld_sample_size
+from probrob.motion import odometry_deltas
+
+W2 = np.array([0.05, 0.42, 0.18, 0.35])
+R1, _, _ = odometry_deltas(np.zeros(3), np.array([-0.004, 0.001, 0.5]))
+
+RIGHT = {
+    "exercise_1": kld_sample_size(40, 0.05, 0.01),
+    "exercise_2": (tuple(np.floor(10 * W2)), tuple(np.ceil(10 * W2))),
+    "exercise_3": 0.25,
+    "exercise_4": 1 / np.sum((np.array([1, 1, 1, 5]) / 8) ** 2),
+    "exercise_5": (math.sqrt(0.1) * abs(R1), 0.0),
+}
+
+# The registry that tests/test_exercises.py reads: every check, its typical wrong answers.
+WRONG_ANSWERS = {
+    "exercise_1": [
+        0,
+        kld_sample_size(40, 0.05, float(norm.sf(0.99))),  # amcl's pf_z = 0.99 used as z
+        kld_sample_size(40, 0.05, 0.01) - 1,  # rounded down
+        -kld_sample_size(40, 0.05, 0.01),
+        kld_sample_size(40, 0.05, 0.99),  # δ = 0.99 (a quantile of about -2.33)
+    ],
+    "exercise_2": [
+        ((0, 0, 0, 0), (0, 0, 0, 0)),
+        (tuple(np.rint(10 * W2)), tuple(np.rint(10 * W2))),  # M·w rounded
+        (tuple(np.ceil(10 * W2)), tuple(np.floor(10 * W2))),  # swapped
+        (tuple(10 * W2), tuple(10 * W2)),  # M·w itself
+        tuple(np.floor(10 * W2)),  # one tuple only
+    ],
+    "exercise_3": [
+        0.0,
+        1.5e-4 / 2.0e-4,  # w_fast / w_slow
+        1 - 2.0e-4 / 1.5e-4,  # the ratio upside down (negative)
+        1.0,
+    ],
+    "exercise_4": [
+        4.0,  # N, as if the weights were equal
+        1 / np.sum(np.array([1, 1, 1, 5.0]) ** 2),  # unnormalised weights
+        0.0,
+        np.sum((np.array([1, 1, 1, 5]) / 8) ** 2),  # Σ w² instead of its inverse
+    ],
+    "exercise_5": [
+        (0.0, 0.0),
+        (0.1 * R1**2, 0.0),  # the variance, not the standard deviation
+        (math.sqrt(0.1) * 0.5, 0.0),  # the turn instead of δrot1
+        (math.sqrt(0.1) * abs(R1), math.sqrt(0.1) * abs(R1)),  # amcl as the book
+        math.sqrt(0.1) * abs(R1),  # one number only
+    ],
+}
+
+
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_the_right_answer_is_correct(name):
+    assert verdict(name, RIGHT[name], test=getattr(mcl, name)) == f"{name}: correct"
+
+
+@pytest.mark.parametrize(
+    ("name", "wrong"), [(n, w) for n, ws in WRONG_ANSWERS.items() for w in ws]
+)
+def test_a_typical_wrong_answer_is_not_yet(name, wrong):
+    assert verdict(name, wrong, test=getattr(mcl, name)).startswith(f"{name}: not yet")
+
+
+def test_the_right_answers_agree_with_the_chapters_solutions():
+    z = norm.isf(0.01)
+    a = 2 / (9 * 39)
+    assert RIGHT["exercise_1"] == math.ceil(39 / 0.1 * (1 - a + math.sqrt(a) * z) ** 3)
+    assert RIGHT["exercise_4"] == pytest.approx(64 / 28)
+    # the Wilson-Hilferty approximation is so close at k = 40 that the exact chi-square
+    # quantile gives the same count: not a wrong answer, so the check accepts it
+    exact = math.ceil(chi2.ppf(0.99, 39) / (2 * 0.05))
+    assert exact == RIGHT["exercise_1"]
+    assert verdict("exercise_1", exact, test=mcl.exercise_1).endswith("correct")

@@ -1,0 +1,135 @@
+"""The Trabalho 3 chapter's exercise checks say "correct" to the right answer and "not yet"
+to the typical wrong ones (``probrob.exercises.trabalho3``)."""
+
+import numpy as np
+import pytest
+
+from probrob.exercises import trabalho3 as t3
+from probrob.exercises import verdict
+from probrob.motion import motion_model_velocity, odometry_deltas, velocity_motion
+
+
+def _mass_20cm(step=0.001):
+    end = velocity_motion(t3.START, t3.U_VEL, 1.0)
+    offsets = np.arange(-0.2, 0.2, step) + step / 2
+    gx, gy = np.meshgrid(end[0] + offsets, end[1] + offsets)
+    disc = np.hypot(gx - end[0], gy - end[1]) <= 0.2
+    p = motion_model_velocity(
+        np.stack([gx, gy], -1), t3.U_VEL, t3.START, 1.0, t3.ALPHA_VEL, density="xy"
+    )
+    return float(p[disc].sum() * step**2), float(p.max())
+
+
+def _alpha_95():
+    lo, hi = 1e-6, 1.0
+    for _ in range(40):
+        mid = np.sqrt(lo * hi)
+        lo, hi = (mid, hi) if t3._share_within_10cm(mid) > 0.95 else (lo, mid)
+    return float(np.sqrt(lo * hi))
+
+
+ALPHA_95 = _alpha_95()
+MASS_20CM, PEAK_DENSITY = _mass_20cm()
+V, W_CMD = t3.U_VEL
+ALPHA1_STD = float(np.sqrt(0.04 * V**2 + 0.01 * W_CMD**2) / abs(V))
+DELTAS_7 = np.array(odometry_deltas(*(np.array(p) for p in t3.EX7_ODOMETRY)))
+(XB, YB, THB), (XB2, YB2, THB2) = t3.EX7_ODOMETRY
+DECK_ROT1_7 = np.arctan2(YB2 - YB, XB2 - XB) - THB  # the deck's line 2, unwrapped
+DECK_7 = np.array([DECK_ROT1_7, DELTAS_7[1], THB2 - THB - DECK_ROT1_7])
+
+RIGHT = {
+    "exercise_1": np.sqrt(6 * t3.EX1_B2),
+    "exercise_2": 12,
+    "exercise_3": lambda a: (np.asarray(a, float) + np.pi) % (2 * np.pi) - np.pi,
+    "exercise_4": ALPHA_95,
+    "exercise_5": MASS_20CM,
+    "exercise_6": ALPHA1_STD,
+    "exercise_7": DELTAS_7,
+}
+
+# The registry that tests/test_exercises.py reads: every check, its typical wrong answers.
+WRONG_ANSWERS = {
+    "exercise_1": [
+        0.0,
+        np.sqrt(t3.EX1_B2),  # b: the normal's σ, not the triangle's half-width
+        np.sqrt(6) * t3.EX1_B2,  # the variance b² read as b
+        -np.sqrt(6 * t3.EX1_B2),  # the wrong sign
+        6 * t3.EX1_B2,
+        np.sqrt(3 * t3.EX1_B2),  # a uniform's half-width for variance b²
+    ],
+    "exercise_2": [0, 1, 6, 24, 12.5, 3],
+    "exercise_3": [
+        lambda a: a,  # the deck: no wrapping
+        lambda a: np.mod(a, 2 * np.pi),  # [0, 2π)
+        lambda a: np.arctan2(np.sin(a), np.cos(a)),  # (-π, π]: π stays π
+        lambda a: np.fmod(a, np.pi),  # a remainder by π
+        lambda a: (np.asarray(a) + np.pi) % np.pi - np.pi,
+        lambda a: 0.0,  # not one angle per angle
+    ],
+    "exercise_4": [
+        0.0,  # no noise: all samples within 10 cm
+        10 * ALPHA_95,
+        ALPHA_95 / 10,
+        np.sqrt(ALPHA_95),  # a standard deviation given for the variance factor
+        -ALPHA_95,
+    ],
+    "exercise_5": [
+        0.0,
+        1.0,
+        0.95,
+        PEAK_DENSITY,  # the density itself, not a probability
+        MASS_20CM + 0.05,
+        _mass_20cm(step=0.001)[0] * np.pi * 0.2**2,  # times the disc's area again
+    ],
+    "exercise_6": [
+        0.04,  # the variance-form α1 as is
+        0.2,  # √α1: drops the α2 ω² term
+        ALPHA1_STD**2,
+        -ALPHA1_STD,
+        0.0,
+        np.sqrt(0.04) + np.sqrt(0.01) * W_CMD,  # √α1|v| + √α2|ω|: the forms do not add so
+    ],
+    "exercise_7": [
+        np.zeros(3),
+        DECK_7,  # the deck: nothing wrapped (erratum O1)
+        np.array([np.arctan(DELTAS_7[0]), DELTAS_7[1], DELTAS_7[2]]),
+        np.degrees(DELTAS_7),  # degrees for radians
+        DELTAS_7[[2, 1, 0]],  # the rotations swapped
+        -DELTAS_7,
+        DELTAS_7[:2],
+    ],
+}
+
+
+def test_the_registry_covers_every_check():
+    names = {n for n in t3.__all__ if n.startswith("exercise")}
+    assert set(WRONG_ANSWERS) == set(RIGHT) == names
+    assert all(len(wrong) >= 3 for wrong in WRONG_ANSWERS.values())
+
+
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_right_answer_is_correct(name):
+    assert verdict(name, RIGHT[name], test=getattr(t3, name)) == f"{name}: correct"
+
+
+@pytest.mark.parametrize(
+    ("name", "k"), [(n, k) for n, wrong in WRONG_ANSWERS.items() for k in range(len(wrong))]
+)
+def test_wrong_answer_is_not_yet(name, k):
+    message = verdict(name, WRONG_ANSWERS[name][k], test=getattr(t3, name))
+    assert message.startswith(f"{name}: not yet — "), message
+
+
+def test_the_deck_answers_of_the_errata_exercises_are_named():
+    assert "not wrapped" in verdict("e", DECK_7, test=t3.exercise_7)
+    assert "variance is 0.083" in verdict("e", 1, test=t3.exercise_2)  # 1/12 of b²
+    assert "outside [-π, π)" in verdict("e", WRONG_ANSWERS["exercise_3"][2], test=t3.exercise_3)
+    assert "not the same direction" in verdict(
+        "e", WRONG_ANSWERS["exercise_3"][3], test=t3.exercise_3
+    )
+
+
+def test_the_answers_of_the_chapter_stay_what_its_solutions_print():
+    assert f"{ALPHA_95:.5f}" == "0.00215"
+    assert f"{MASS_20CM:.4f}" == "0.6727"
+    assert f"{ALPHA1_STD:.5f}" == "0.21541"
