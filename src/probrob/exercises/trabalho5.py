@@ -1,5 +1,8 @@
 r"""Checks of the exercises of the chapter "Trabalho 5 — EKF and UKF localization".
 
+Holds the checks of the Trabalho 5 chapter's exercises.
+Does not hold the answers or the filters (each check computes the truth with :mod:`probrob.localization`).
+
 Each ``exercise_N(answer)`` computes the truth with the library and returns ``None`` when
 ``answer`` is right, else a short message of what is wrong (never the right value); the
 chapter passes it to :func:`probrob.exercises.check` as ``test``.
