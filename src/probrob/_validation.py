@@ -451,10 +451,11 @@ def covariance(value, name: str, sizes: tuple[int, ...] = (3,), *, stack: bool =
         raise ValueError(f"{name} must have shape {shapes}, got {S.shape}")
     ST = np.swapaxes(S, -1, -2)
     if not np.all(np.abs(S - ST) <= 1e-12 + 1e-9 * np.abs(ST)):
-        i, j = (int(k) for k in np.argwhere(np.abs(S - ST) > 1e-12 + 1e-9 * np.abs(ST))[0][-2:])
+        where = tuple(int(k) for k in np.argwhere(np.abs(S - ST) > 1e-12 + 1e-9 * np.abs(ST))[0])
+        *batch, i, j = where
         raise ValueError(
-            f"{name} must be symmetric, got entry ({i}, {j}) = {float(S[..., i, j].flat[0])!r} "
-            f"and ({j}, {i}) = {float(S[..., j, i].flat[0])!r}"
+            f"{name} must be symmetric, got entry {where} = {float(S[where])!r} and "
+            f"{(*batch, j, i)} = {float(S[(*batch, j, i)])!r}"
         )
     if not is_positive_semidefinite(S):
         eig = np.linalg.eigvalsh(S)
