@@ -82,6 +82,7 @@ import probrob._live as live
 import probrob.angles as angles
 import probrob.datasets as datasets
 import probrob.distributions as distributions
+import probrob.evaluation as evaluation
 import probrob.fitting as fitting
 import probrob.kinematics as kinematics
 import probrob.localization as localization
@@ -1089,7 +1090,7 @@ API += [
     ),
     # probrob.localization (issue 7): empty feature sets (K = 0) come with batch ()
     Api(
-        localization.chi2_quantile,
+        evaluation.chi2_quantile,
         "map",
         p=Arg(
             lambda batch: floats([1e-12, 0.5, 0.95, 1 - 1e-12], 1e-6, 0.999999),
@@ -1099,7 +1100,7 @@ API += [
         dof=Arg(lambda batch: st.integers(1, 6), 2, [(0, ValueError), *BAD_COUNT]),
     ),
     Api(
-        localization.covariance_ellipse,
+        evaluation.covariance_ellipse,
         "map",
         mu=Arg(MU.valid, MU.default, BAD_LANDMARK),
         Sigma=COVARIANCE_ANY,
@@ -1181,7 +1182,7 @@ API += [
         alpha=ALPHAS4_FILTER,
     ),
     # NEES needs Σ⁻¹: positive definite covariances only (a singular one is a ValueError)
-    Api(localization.nees, "map", x_true=POSE, mu=MU, Sigma=COVARIANCE_PD),
+    Api(evaluation.nees, "map", x_true=POSE, mu=MU, Sigma=COVARIANCE_PD),
     Api(
         localization.ukf_weights,
         "map",
@@ -1222,7 +1223,7 @@ API += [
         finite=False,
     ),
     Api(
-        localization.fit_measurement_noise,
+        fitting.fit_measurement_noise,
         "map",
         z=Arg(
             constant(np.array([[2.0, 0.3, 0.0], [1.0, -0.2, 1.0], [3.0, 3.0, 2.0]])),
@@ -1243,7 +1244,7 @@ API += [
         examples=3,
     ),
     Api(
-        localization.fit_motion_noise,
+        fitting.fit_motion_noise,
         "map",
         nan_fields=("nees",),  # documented: NaN for windows without motion
         u=Arg(constant(_U_K), _U_K, [(np.zeros((FIT_K, 3)), ValueError)]),
@@ -1929,7 +1930,7 @@ def test_every_public_function_is_in_the_table():
     listed |= {func for func, *_ in EXTRA_INVALID}
     missing = []
     modules = (angles, distributions, motion, plotting, widgets, kinematics, sensors, maps)
-    for module in (*modules, localization, simulation, fitting, datasets, mcl):
+    for module in (*modules, localization, evaluation, simulation, fitting, datasets, mcl):
         for name in module.__all__:
             obj = getattr(module, name)
             if inspect.isfunction(obj) and obj not in listed:  # classes may join as rows too

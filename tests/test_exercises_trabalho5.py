@@ -10,8 +10,9 @@ import pytest
 from scipy.stats import norm
 
 import probrob.exercises.trabalho5 as ch
+from probrob.evaluation import chi2_quantile
 from probrob.exercises import verdict
-from probrob.localization import chi2_quantile, ukf_weights
+from probrob.localization import ukf_weights
 
 
 def _ok(name, answer, test):

@@ -8,15 +8,12 @@ import numpy as np
 import pytest
 
 from probrob.angles import wrap_angle
+from probrob.evaluation import chi2_quantile, covariance_ellipse, nees
+from probrob.fitting import fit_measurement_noise, fit_motion_noise
 from probrob.localization import (
-    chi2_quantile,
-    covariance_ellipse,
     ekf_localization,
     ekf_localization_known_correspondences,
     ekf_predict_segment,
-    fit_measurement_noise,
-    fit_motion_noise,
-    nees,
     run_filter,
     ukf_localization,
     ukf_localization_ml,

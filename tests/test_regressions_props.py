@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 import pytest
 
-from probrob import fitting, localization, maps, motion, sensors, simulation
+from probrob import evaluation, fitting, localization, maps, motion, sensors, simulation
 
 LANDMARKS = np.array([[2.0, 1.0, 0.0], [-1.0, 3.0, 1.0]])
 
@@ -66,19 +66,19 @@ def test_landmark_counts_are_not_truncated():
 
 
 def test_chi2_quantile_names_its_arguments():
-    _raises(ValueError, ["p"], localization.chi2_quantile, None, 2)  # was a TypeError
-    _raises(ValueError, ["p"], localization.chi2_quantile, [0.5, 0.9], 2)
-    _raises(TypeError, ["p"], localization.chi2_quantile, 0.5j, 2)
-    _raises(ValueError, ["dof"], localization.chi2_quantile, 0.5, True)  # was dof = 1
-    assert localization.chi2_quantile(0.95, 2) == pytest.approx(5.991464547107979)
+    _raises(ValueError, ["p"], evaluation.chi2_quantile, None, 2)  # was a TypeError
+    _raises(ValueError, ["p"], evaluation.chi2_quantile, [0.5, 0.9], 2)
+    _raises(TypeError, ["p"], evaluation.chi2_quantile, 0.5j, 2)
+    _raises(ValueError, ["dof"], evaluation.chi2_quantile, 0.5, True)  # was dof = 1
+    assert evaluation.chi2_quantile(0.95, 2) == pytest.approx(5.991464547107979)
 
 
 def test_covariance_ellipse_checks_mu_and_n():
     S = np.diag([0.1, 0.2, 0.05])
-    _raises(ValueError, ["mu"], localization.covariance_ellipse, np.zeros((4, 4)), S)
-    _raises(ValueError, ["n"], localization.covariance_ellipse, np.zeros(3), S, n=2.5)
-    _raises(ValueError, ["p"], localization.covariance_ellipse, np.zeros(3), S, p=None)
-    assert localization.covariance_ellipse(np.zeros(2), S[:2, :2], n=8).shape == (9, 2)
+    _raises(ValueError, ["mu"], evaluation.covariance_ellipse, np.zeros((4, 4)), S)
+    _raises(ValueError, ["n"], evaluation.covariance_ellipse, np.zeros(3), S, n=2.5)
+    _raises(ValueError, ["p"], evaluation.covariance_ellipse, np.zeros(3), S, p=None)
+    assert evaluation.covariance_ellipse(np.zeros(2), S[:2, :2], n=8).shape == (9, 2)
 
 
 def test_ukf_weights_n_is_an_integer():
@@ -111,7 +111,7 @@ def test_step_lengths_of_the_wrong_length_are_named():
     _raises(ValueError, ["dt"], localization.ekf_predict_segment, np.zeros(3), np.eye(3), u,
             [1.0, 1.0, 1.0], [0.01] * 4)  # fmt: skip
     poses = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.1], [2.0, 0.1, 0.1]])
-    _raises(ValueError, ["dt"], localization.fit_motion_noise, u, [1.0] * 3, poses, window=1.0)
+    _raises(ValueError, ["dt"], fitting.fit_motion_noise, u, [1.0] * 3, poses, window=1.0)
 
 
 @pytest.mark.parametrize(

@@ -1,5 +1,8 @@
 r"""Live widgets: kernel-free sliders that recompute a model in the reader's browser.
 
+Holds the live widgets: self-contained HTML and JavaScript that recompute a model in the browser.
+Does not hold the models (the JavaScript mirrors :mod:`probrob.motion` and :mod:`probrob.sensors`).
+
 A live widget is one self-contained block of HTML, CSS and JavaScript (no CDN, no external
 file, no build step) that works in the static book and in Jupyter (as a trusted output). It
 embeds a seeded set of *standardized draws* :math:`z` made by :mod:`probrob.distributions`
@@ -538,12 +541,12 @@ def landmark_model_live(
     r"""Return a live widget of the landmark model (Tables 6.4 and 6.5).
 
     Sliders for the feature :math:`f = (r, \phi, s)`, the standard deviations
-    :math:`(\sigma_r, \sigma_\phi, \sigma_s)` and the heading :math:`	heta` at which the
+    :math:`(\sigma_r, \sigma_\phi, \sigma_s)` and the heading :math:`\theta` at which the
     likelihood is drawn. Red: poses of
     :func:`~probrob.sensors.sample_landmark_model_known_correspondence` (the embedded draws of
     :func:`landmark_draws`); grey:
     :func:`~probrob.sensors.landmark_model_known_correspondence` over :math:`(x, y)` for poses
-    with heading :math:`	heta`; blue square: the landmark.
+    with heading :math:`\theta`; blue square: the landmark.
 
     Parameters
     ----------

@@ -1,5 +1,8 @@
 r"""The one validation layer of probrob: every public function checks its input here.
 
+Holds every argument check of the public functions, and the overflow report.
+Does not hold models or what they compute; no other module defines its own checks.
+
 Rules (the book's *conventions* page, section "What the library accepts"):
 
 * bad input raises ``ValueError`` whose message names the argument (and its value or shape);
@@ -465,3 +468,158 @@ def _returned_finite(arr: np.ndarray, name: str) -> None:
             f"{name} returned {bad!r}: a sampler must return finite draws "
             f"({int((~np.isfinite(arr)).sum())} of {arr.size} are not)"
         )
+
+
+# --------------------------------------------------------------------------- filters
+# The arguments of the Gaussian filters (probrob.localization), their evaluation
+# (probrob.evaluation) and the noise fits (probrob.fitting).
+
+
+def vector(value, name: str, length: int, what: str) -> np.ndarray:
+    """Return one finite vector of shape ``(length,)`` exactly (e.g. one control ``u``)."""
+    arr = finite(value, name)
+    if arr.shape != (length,):
+        raise ValueError(f"{name} must have shape ({length},) ({what}), got shape {arr.shape}")
+    return arr
+
+
+def open_probability(value, name: str) -> float:
+    """Return a float scalar in the open interval (0, 1)."""
+    arr = finite(value, name)
+    if arr.ndim != 0 or not 0.0 < arr < 1.0:
+        raise ValueError(f"{name} must be a probability in (0, 1), got {_short(value)}")
+    return float(arr)
+
+
+def covariance(value, name: str, sizes: tuple[int, ...] = (3,), *, stack: bool = False):
+    """Return a finite, symmetric, positive semi-definite covariance matrix.
+
+    Shape ``(n, n)`` with ``n`` in ``sizes``; with ``stack=True`` also ``(..., n, n)``.
+    Symmetric means equal to its transpose to ``1e-12 + 1e-9 |S_ij|`` (never symmetrised
+    silently); positive semi-definite means no eigenvalue below ``-1e-12`` times the
+    largest (singular is legal: ``0`` is a known pose).
+    """
+    S = finite(value, name)
+    n = S.shape[-1] if S.ndim >= 2 else None
+    if S.ndim < 2 or (S.ndim > 2 and not stack) or S.shape[-2] != n or n not in sizes:
+        shapes = " or ".join(f"({'..., ' if stack else ''}{k}, {k})" for k in sizes)
+        raise ValueError(f"{name} must have shape {shapes}, got {S.shape}")
+    ST = np.swapaxes(S, -1, -2)
+    if not np.all(np.abs(S - ST) <= 1e-12 + 1e-9 * np.abs(ST)):
+        where = tuple(int(k) for k in np.argwhere(np.abs(S - ST) > 1e-12 + 1e-9 * np.abs(ST))[0])
+        *batch, i, j = where
+        raise ValueError(
+            f"{name} must be symmetric, got entry {where} = {float(S[where])!r} and "
+            f"{(*batch, j, i)} = {float(S[(*batch, j, i)])!r}"
+        )
+    if not is_positive_semidefinite(S):
+        eig = np.linalg.eigvalsh(S)
+        raise ValueError(
+            f"{name} is not positive semi-definite (smallest eigenvalue {eig.min():.3g})"
+        )
+    return S
+
+
+def is_positive_semidefinite(S: np.ndarray) -> bool:
+    """Whether the symmetric ``S`` (..., n, n) is positive semi-definite: no eigenvalue below
+    ``-1e-12`` times the largest (a Cholesky factor, when it exists, proves it cheaply)."""
+    try:
+        np.linalg.cholesky(S)
+        return True
+    except np.linalg.LinAlgError:
+        eig = np.linalg.eigvalsh(S)
+        return bool(np.all(eig[..., 0] >= -1e-12 * np.maximum(1.0, eig[..., -1])))
+
+
+def landmark_map(value, name: str = "m") -> np.ndarray:
+    """Return a finite, non-empty landmark map of shape ``(L, 3)``: rows ``(x, y, s)``."""
+    m = finite(value, name)
+    if m.ndim != 2 or m.shape[1] != 3:
+        raise ValueError(f"{name} must have shape (L, 3) (landmark x, y, s), got {m.shape}")
+    if m.shape[0] == 0:
+        raise ValueError(f"{name} is an empty map: it needs at least one landmark")
+    return m
+
+
+def features(value, name: str = "z") -> np.ndarray:
+    """Return a step's features as ``(K, 3)`` rows ``(r, phi, s)`` or ``(K, 2)`` rows ``(r, phi)``.
+
+    One feature may be given as a ``(3,)`` or ``(2,)`` row; no feature (an empty array) is
+    ``(0, 3)``. Ranges must be ``>= 0``.
+    """
+    z = finite(value, name)
+    if z.size == 0:
+        return np.zeros((0, 3))
+    if z.ndim == 1:
+        z = z[None, :]
+    if z.ndim != 2 or z.shape[1] not in (2, 3):
+        raise ValueError(
+            f"{name} must have shape (K, 3) (r, phi, s) or (K, 2) (r, phi), got {z.shape}"
+        )
+    if np.any(z[:, 0] < 0):
+        raise ValueError(f"{name}: ranges must be >= 0")
+    return z
+
+
+def landmark_indices(value, name: str, count: int, n_landmarks: int) -> np.ndarray:
+    """Return ``count`` integer landmark rows in ``0 .. n_landmarks - 1`` (shape ``(count,)``).
+
+    Integral floats such as ``2.0`` are accepted; ``0.5``, NaN and out-of-range rows are not.
+    """
+    arr = np.asarray(value)
+    if arr.size == 0 and count == 0:
+        return np.zeros(0, dtype=int)
+    arr = np.atleast_1d(arr)
+    integral = arr.dtype.kind in "iu" or (
+        arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.round(arr))
+    )
+    if not integral:
+        raise ValueError(f"{name} must hold integer landmark indices, got {_short(value)}")
+    if arr.shape != (count,):
+        raise ValueError(
+            f"{name} must have shape ({count},), one landmark index per feature, got {arr.shape}"
+        )
+    if np.any(arr < 0) or np.any(arr >= n_landmarks):
+        raise ValueError(
+            f"{name} must index the map's {n_landmarks} landmarks, got {arr.tolist()}"
+        )
+    return arr.astype(int)
+
+
+def sigmas(value, name: str, lengths: tuple[int, ...], *, positive: bool) -> np.ndarray:
+    """Return measurement standard deviations :math:`(\\sigma_r, \\sigma_\\phi[, \\sigma_s])`.
+
+    Shape ``(k,)`` with ``k`` in ``lengths``; each ``> 0`` if ``positive`` (a filter divides
+    by them), else ``>= 0`` (a density of zero noise is a point mass).
+    """
+    arr = finite(value, name)
+    if arr.shape not in tuple((k,) for k in lengths):
+        need = " or ".join(("(σ_r, σ_φ, σ_s)" if k == 3 else "(σ_r, σ_φ)") for k in lengths)
+        raise ValueError(f"{name} must hold the standard deviations {need}, got shape {arr.shape}")
+    if np.any(arr <= 0) if positive else np.any(arr < 0):
+        bound = "> 0" if positive else ">= 0"
+        raise ValueError(f"{name} are standard deviations and must be {bound}, got {arr.tolist()}")
+    return arr
+
+
+def step_lengths(value, name: str, n: int) -> np.ndarray:
+    """Return ``n`` finite step lengths ``> 0`` (one value for all, or one per step), shape (n,)."""
+    dt = finite(value, name)
+    if dt.shape not in ((), (n,)):
+        raise ValueError(f"{name} must be a scalar or have shape ({n},), got shape {dt.shape}")
+    if np.any(dt <= 0):
+        raise ValueError(f"{name} must be > 0, got {_short(value)}")
+    return np.broadcast_to(dt, (n,))
+
+
+__all__ += [
+    "covariance",
+    "features",
+    "is_positive_semidefinite",
+    "landmark_indices",
+    "landmark_map",
+    "open_probability",
+    "sigmas",
+    "step_lengths",
+    "vector",
+]

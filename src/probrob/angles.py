@@ -1,5 +1,8 @@
 r"""Angles: wrapping, differences and circular means.
 
+Holds angle wrapping, differences and circular means: every angle of the library goes here.
+Does not hold poses or motion (:mod:`probrob.motion`, :mod:`probrob.kinematics`).
+
 Every angular difference in probrob (an innovation, a heading change, an odometry
 rotation) goes through this module, so that :math:`\theta = \pi - 0.01` and
 :math:`\theta = -\pi + 0.01` are 0.02 rad apart, not :math:`2\pi - 0.02`.

@@ -1,5 +1,8 @@
 r"""Loaders for the real robot recordings the book uses.
 
+Holds the loaders of the real recordings: files found, checked against their sha256, parsed.
+Does not hold the data (never copied into the repository) or fits to it (:mod:`probrob.fitting`).
+
 Three datasets, each in its own folder (never copied into this repository):
 
 - :func:`load_mrclam` — folder ``mrclam_dataset7_robot1``: UTIAS MRCLAM Dataset 7, robot 1:
@@ -16,8 +19,8 @@ Three datasets, each in its own folder (never copied into this repository):
    not silently load another copy). ``path`` may be the dataset's folder itself or a data
    folder holding it (``path/<folder>``);
 2. ``$PROBROB_DATA/<folder>``, if the environment variable is set and not empty;
-3. ``<repository>/../shared/data/<folder>``, where ``<repository>`` is the checkout that
-   holds this module (``src/probrob/datasets.py``, editable install).
+3. ``shared/data/<folder>`` in the folder that holds the repository (the checkout that
+   holds this module, ``src/probrob/datasets.py``, editable install).
 
 The first of these folders that holds any of the dataset's files is used. A missing file
 raises :class:`DatasetNotFoundError` (a ``FileNotFoundError``) naming the file, every place
@@ -240,7 +243,7 @@ def _places(ds: _Dataset, path) -> list[tuple[Path, str]]:
     places.append(
         (
             Path(os.path.normpath(_REPOSITORY / ".." / "shared" / "data" / ds.folder)),
-            f"../shared/data/{ds.folder} beside the repository",
+            f"shared/data/{ds.folder} beside the repository",
         )
     )
     return places
@@ -275,7 +278,7 @@ def _not_found(ds: _Dataset, name: str, places, chosen: Path | None = None):
         + f"\nDownload the dataset from its publisher: {ds.publisher}\n"
         f"A byte-identical copy of this file: {spec.url}\n"
         f"Put the files in a folder named {ds.folder!r} under ${ENV_VAR} (or under "
-        f"../shared/data beside the repository), or pass path=<that folder>."
+        f"shared/data beside the repository), or pass path=<that folder>."
     )
     raise DatasetNotFoundError(
         message, file=name, places=[str(f) for f, _ in places], url=ds.publisher
@@ -614,7 +617,7 @@ def load_mrclam(path=None) -> MRCLAM:
     ----------
     path : str or os.PathLike, optional
         The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
-        ``../shared/data`` beside the repository (see the module docstring).
+        ``shared/data`` beside the repository (see the module docstring).
 
     Returns
     -------
@@ -957,7 +960,7 @@ def load_intel_lab(path=None) -> IntelLab:
     ----------
     path : str or os.PathLike, optional
         The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
-        ``../shared/data`` beside the repository.
+        ``shared/data`` beside the repository.
 
     Returns
     -------
@@ -1069,7 +1072,7 @@ def load_lnpr_wall(distance_mm=200, path=None) -> LNPRWall:
         The nominal wall distance, selecting ``sensor_data_<distance_mm>.txt``.
     path : str or os.PathLike, optional
         The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
-        ``../shared/data`` beside the repository.
+        ``shared/data`` beside the repository.
 
     Returns
     -------

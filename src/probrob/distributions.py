@@ -1,5 +1,8 @@
 r"""Zero-mean densities and samplers of *Probabilistic Robotics*, Table 5.2.
 
+Holds the zero-mean densities and samplers of Table 5.2.
+Does not hold motion or measurement models (:mod:`probrob.motion`, :mod:`probrob.sensors`).
+
 Every function takes the **variance** :math:`b^2` (not the standard deviation), as the
 book's tables do. The samplers are the book's: the normal one sums twelve uniforms
 (an Irwin–Hall approximation, exact in mean and variance, bounded at :math:`\pm 6b`);

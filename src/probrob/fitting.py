@@ -1,4 +1,7 @@
-r"""Motion-model noise parameters fitted to recorded motion by maximum likelihood.
+r"""Noise parameters fitted to recorded data: the motion and measurement noise of the models.
+
+Holds noise parameters fitted to recorded data: ML fits (Tables 5.1, 5.5) and moment fits (7.2, 6.4).
+Does not hold the models (:mod:`probrob.motion`, :mod:`probrob.sensors`) or the filters.
 
 The noise parameters :math:`\alpha` of the velocity model (*Probabilistic Robotics*,
 Table 5.1, :math:`\alpha_1 \ldots \alpha_6`) and of the odometry model (Table 5.5,
@@ -30,19 +33,29 @@ It also turns a recording into such pose pairs:
 
 from __future__ import annotations
 
+import itertools
+import math
 from dataclasses import dataclass, field, replace
+from typing import NamedTuple
 
 import numpy as np
 from scipy.optimize import minimize
 
 from . import _validation as check
 from .angles import angle_diff
+from .evaluation import nees
 from .kinematics import _interpolate_track, arc_update, dead_reckon
+from .localization import _predict_segment
 from .motion import motion_model_odometry, motion_model_velocity
+from .sensors import _landmark_measurement_core
 
 __all__ = [
     "AlphaFit",
+    "MeasurementNoiseFit",
+    "MotionNoiseFit",
     "MotionWindows",
+    "fit_measurement_noise",
+    "fit_motion_noise",
     "fit_odometry_alpha",
     "fit_velocity_alpha",
     "frame_errors",
@@ -544,6 +557,20 @@ def _fit(loglik, count, n_pairs, model, noise, density, alpha0, alpha_bounds):
     )
 
 
+def _fit_model(model_fn, model, count, data, noise, density, alpha0, alpha_bounds):
+    """Check the options, then fit ``count`` α of ``model_fn`` to ``data`` (see :func:`_fit`).
+
+    ``data`` are the model's arguments before ``alpha``: ``(x_t, u_t, x_prev[, dt])``.
+    """
+    check.choice(noise, "noise", _NOISE_FORMS)
+    check.choice(density, "density", _FIT_DENSITIES)
+
+    def loglik(alpha):
+        return _log_density(model_fn, *data, alpha, noise=noise, density=density)
+
+    return _fit(loglik, count, data[0].shape[0], model, noise, density, alpha0, alpha_bounds)
+
+
 def _pairs(x_t, x_prev):
     x_t = check.poses(x_t, "x_t")
     x_prev = check.poses(x_prev, "x_prev")
@@ -600,15 +627,10 @@ def fit_velocity_alpha(
     x_t, x_prev = _pairs(x_t, x_prev)
     u_t = _rows(u_t, "u_t", x_t.shape[0], 2, "v, omega")
     dt = check.positive_scalar(dt, "dt")
-    check.choice(noise, "noise", _NOISE_FORMS)
-    check.choice(density, "density", _FIT_DENSITIES)
-
-    def loglik(alpha):
-        return _log_density(
-            motion_model_velocity, x_t, u_t, x_prev, dt, alpha, noise=noise, density=density
-        )
-
-    return _fit(loglik, 6, x_t.shape[0], "velocity", noise, density, alpha0, alpha_bounds)
+    return _fit_model(
+        motion_model_velocity, "velocity", 6, (x_t, u_t, x_prev, dt), noise, density, alpha0,
+        alpha_bounds,
+    )  # fmt: skip
 
 
 def fit_odometry_alpha(
@@ -657,12 +679,196 @@ def fit_odometry_alpha(
         raise ValueError(
             f"u_t must have shape ({x_t.shape[0]}, 2, 3) (odometry poses), got {u_t.shape}"
         )
-    check.choice(noise, "noise", _NOISE_FORMS)
-    check.choice(density, "density", _FIT_DENSITIES)
+    return _fit_model(
+        motion_model_odometry, "odometry", 4, (x_t, u_t, x_prev), noise, density, alpha0,
+        alpha_bounds,
+    )  # fmt: skip
 
-    def loglik(alpha):
-        return _log_density(
-            motion_model_odometry, x_t, u_t, x_prev, alpha, noise=noise, density=density
-        )
 
-    return _fit(loglik, 4, x_t.shape[0], "odometry", noise, density, alpha0, alpha_bounds)
+# --------------------------------------------------------------------------- moment fits
+
+
+class MeasurementNoiseFit(NamedTuple):
+    r"""Result of :func:`fit_measurement_noise` (a tuple: ``bias, sigma, robust = fit``).
+
+    Attributes
+    ----------
+    bias : ndarray, shape (2,)
+        Mean residual of range [m] and bearing [rad].
+    sigma : ndarray, shape (2,)
+        Their standard deviations (Gaussian ML fit).
+    robust_sigma : ndarray, shape (2,)
+        1.4826 × the median absolute deviation from the median.
+    """
+
+    bias: np.ndarray
+    sigma: np.ndarray
+    robust_sigma: np.ndarray
+
+
+def fit_measurement_noise(z, c, poses, m):
+    r"""Return the bias and standard deviation of range and bearing, fitted to true poses.
+
+    The residuals :math:`r - \hat r` and :math:`\mathrm{wrap}(\phi - \hat\phi)` of
+    measurements ``z`` of landmarks ``c`` taken at known poses, with :math:`(\hat r,
+    \hat\phi) = h(x, m_c)` (the measurement function of Table 6.4), and their Gaussian
+    maximum-likelihood fit: the mean (bias) and the standard deviation (``ddof=0``). Also
+    returns the robust standard deviation :math:`1.4826\cdot\mathrm{MAD}`, which
+    describes the core of a heavy-tailed residual distribution.
+
+    Parameters
+    ----------
+    z : array_like, shape (K, 2) or (K, 3)
+        Measurements :math:`(r, \phi[, s])`.
+    c : array_like of int, shape (K,)
+        Landmark rows.
+    poses : array_like, shape (K, 3)
+        True poses at the measurement times (e.g. motion capture).
+    m : array_like, shape (L, 3)
+
+    Returns
+    -------
+    MeasurementNoiseFit
+        ``(bias, sigma, robust_sigma)``, each of shape (2,) (range [m], bearing [rad]).
+    """
+    m = check.landmark_map(m, "m")
+    z = check.features(z, "z")
+    c = check.landmark_indices(c, "c", z.shape[0], m.shape[0])
+    poses = check.poses(poses, "poses")
+    if poses.shape != (z.shape[0], 3):
+        raise ValueError(f"poses must have shape ({z.shape[0]}, 3), got {poses.shape}")
+    if z.shape[0] < 2:
+        raise ValueError("z: at least two measurements are needed to fit a noise")
+    z_hat = _landmark_measurement_core(poses, m[c, :2])
+    res = np.stack([z[:, 0] - z_hat[:, 0], angle_diff(z[:, 1], z_hat[:, 1])], axis=-1)
+    med = np.median(res, axis=0)
+    return MeasurementNoiseFit(
+        bias=res.mean(axis=0),
+        sigma=res.std(axis=0),
+        robust_sigma=1.4826 * np.median(np.abs(res - med), axis=0),
+    )
+
+
+@dataclass(frozen=True)
+class MotionNoiseFit:
+    r"""Result of :func:`fit_motion_noise`.
+
+    Attributes
+    ----------
+    alpha : ndarray, shape (4,)
+        Fitted :math:`\alpha_1 \ldots \alpha_4`.
+    windows : int
+        Number of windows.
+    errors : ndarray, shape (windows, 3)
+        Each window's end-pose error in the robot frame: along the direction of travel,
+        across it (left), and in heading.
+    nees : ndarray, shape (windows,)
+        :math:`e^T \bar\Sigma^{-1} e` of each window's end pose under the fitted
+        :math:`\alpha` (windows without motion left out: NaN).
+    """
+
+    alpha: np.ndarray
+    windows: int
+    errors: np.ndarray
+    nees: np.ndarray
+
+
+def _nonnegative_lstsq(X: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Least squares ``X a ≈ y`` with ``a >= 0`` for two columns (exact active-set)."""
+    best, best_cost = np.zeros(2), float(y @ y)
+    candidates = [np.linalg.lstsq(X, y, rcond=None)[0]]
+    for j in range(2):
+        col = X[:, j]
+        den = float(col @ col)
+        a = np.zeros(2)
+        if den > 0:
+            a[j] = float(col @ y) / den
+        candidates.append(a)
+    for a in candidates:
+        if np.all(a >= 0):
+            cost = float(np.sum((X @ a - y) ** 2))
+            if cost < best_cost:
+                best, best_cost = a, cost
+    return best
+
+
+def fit_motion_noise(u, dt, poses, *, window):
+    r"""Fit :math:`\alpha_1 \ldots \alpha_4` of the EKF's motion noise to a true trajectory.
+
+    The steps are cut into consecutive windows of about ``window`` seconds. In each
+    window the noise-free motion :math:`g` (Table 7.2, line 6) runs from the true pose
+    over the window's commands; the error :math:`e_w` between the true end pose and that
+    prediction is split into its component along the direction of travel, across it,
+    and in heading. In the model of Table 7.2 the heading error is exactly
+    :math:`\sum_k \Delta t_k\, \delta\omega_k` and the along-track error is, to first
+    order, :math:`\sum_k \Delta t_k\, \delta v_k`, so (method of moments)
+
+    .. math::
+        E[e_{w,\parallel}^2] = \alpha_1 \sum_k \Delta t_k^2 v_k^2 + \alpha_2 \sum_k \Delta t_k^2 \omega_k^2,
+        \qquad
+        E[e_{w,\theta}^2] = \alpha_3 \sum_k \Delta t_k^2 v_k^2 + \alpha_4 \sum_k \Delta t_k^2 \omega_k^2,
+
+    two linear regressions of the squared errors on the windows' sums, solved by
+    non-negative least squares. The cross-track error is not used: the model has no
+    noise term that moves the robot sideways (only a heading error does, slowly), so
+    what the data show there is reported (``errors[:, 1]``) rather than fitted.
+
+    The book's model draws independent noise at every step, so the fitted values
+    depend on the step length and on ``window``: fit at the horizon the filter
+    predicts over between measurements.
+
+    Parameters
+    ----------
+    u : array_like, shape (N, 2)
+        Commands of the steps.
+    dt : array_like, shape (N,)
+        Step lengths, > 0.
+    poses : array_like, shape (N + 1, 3)
+        True poses at the step boundaries (the start of step 0, then each step's end).
+    window : float
+        Window length, s.
+
+    Returns
+    -------
+    MotionNoiseFit
+    """
+    u = check.vectors(u, "u", 2, "v, omega")
+    if u.ndim != 2:
+        raise ValueError(f"u must have shape (N, 2), got {u.shape}")
+    n = u.shape[0]
+    dt = check.step_lengths(dt, "dt", n)
+    poses = check.poses(poses, "poses")
+    if poses.shape != (n + 1, 3):
+        raise ValueError(f"poses must have shape ({n + 1}, 3), got {poses.shape}")
+    window = check.positive_scalar(window, "window")
+    begins = np.concatenate([[0.0], np.cumsum(dt[:-1])])
+    # A step belongs to the window its start falls in (tolerant of summed rounding).
+    label = np.floor(begins / window + 1e-9).astype(int)
+    cuts = np.concatenate([[0], np.flatnonzero(np.diff(label)) + 1, [n]])
+    zero3 = np.zeros((3, 3))
+    errors, design, starts = [], [], []
+    for a, b in itertools.pairwise(cuts.tolist()):
+        mus, _ = _predict_segment(poses[a], zero3, u[a:b], dt[a:b], np.zeros(4))
+        e = poses[b] - mus[-1]
+        e[2] = angle_diff(poses[b, 2], mus[-1, 2])
+        move = mus[-1, :2] - poses[a, :2]
+        heading = math.atan2(move[1], move[0]) if np.hypot(*move) > 0 else float(poses[a, 2])
+        c, s_ = math.cos(heading), math.sin(heading)
+        errors.append([c * e[0] + s_ * e[1], -s_ * e[0] + c * e[1], e[2]])
+        w2 = dt[a:b] ** 2
+        design.append([w2 @ u[a:b, 0] ** 2, w2 @ u[a:b, 1] ** 2])
+        starts.append((a, b))
+    errors = np.array(errors)
+    X = np.array(design)
+    if np.count_nonzero(np.any(X > 0, axis=1)) < 2:
+        raise ValueError("fewer than two windows with motion: cannot fit the noise")
+    alpha = np.concatenate(
+        [_nonnegative_lstsq(X, errors[:, 0] ** 2), _nonnegative_lstsq(X, errors[:, 2] ** 2)]
+    )
+    nees_w = np.full(len(errors), np.nan)
+    for w, (a, b) in enumerate(starts):
+        mus, Sig = _predict_segment(poses[a], zero3, u[a:b], dt[a:b], alpha)
+        eig = np.linalg.eigvalsh(Sig[-1])
+        if eig[0] > 1e-9 * eig[-1]:
+            nees_w[w] = nees(poses[b], mus[-1], Sig[-1])
+    return MotionNoiseFit(alpha=alpha, windows=len(errors), errors=errors, nees=nees_w)

@@ -1,5 +1,8 @@
 r"""Wheel kinematics and odometry integration: the Turkish lecture and the Italian CIR report.
 
+Holds wheel odometry, exact arc updates, dead reckoning and the CIR report's matrices.
+Does not hold probabilistic motion models (:mod:`probrob.motion`) or noise fits (:mod:`probrob.fitting`).
+
 From the Turkish lecture "Olasılıksal Robotik" (deck ``002``):
 
 * :func:`diff_drive_odometry` — slide *Odometri - Diferansiyel Sürüşlü Robot*: wheel arc

@@ -1,28 +1,30 @@
-r"""Gaussian filter localization of *Probabilistic Robotics*, chapter 7.
+r"""Gaussian filter localization of *Probabilistic Robotics*, chapter 7 (Tables 7.2–7.4).
+
+Holds the EKF (Tables 7.2, 7.3), the UKF (Table 7.4) and :func:`run_filter`, which runs one
+of them along a sequence of steps. Does not hold the models :math:`g, h` (:mod:`probrob.motion`,
+:mod:`probrob.sensors`), noise fits (:mod:`probrob.fitting`) or the NEES, its χ² bounds and
+the covariance ellipse (:mod:`probrob.evaluation`).
 
 * :func:`ekf_localization_known_correspondences` — Table 7.2, the EKF with known
   correspondences, returning :math:`\mu_t, \Sigma_t` and the measurement likelihood
   :math:`p(z_t)`;
 * :func:`ekf_localization` — Table 7.3, the EKF with maximum-likelihood data
-  association (unknown correspondences), returning the chosen landmark per feature, with
-  an optional χ² gate;
+  association (unknown correspondences), with an optional χ² gate;
 * :func:`ukf_localization` — Table 7.4, the UKF with the augmented state (pose, control
   noise, measurement noise); several features of one step are stacked into one update;
-* :func:`nees` — the normalised estimation error squared of a pose estimate;
+  :func:`ukf_weights` its weights, :func:`ukf_localization_ml` Table 7.4 with the
+  association of Table 7.3;
+* :func:`ekf_predict_segment` — the predictions of Table 7.2 over many steps at once;
 * :func:`run_filter` — one of the filters over a sequence of steps (a simulation or a
-  dataset's ``stream()``), collecting the estimates.
+  dataset's ``stream()``), collecting the estimates in a :class:`FilterRun`.
 
-All three use the noise-free velocity motion :math:`g` and its Jacobians from
-:mod:`probrob.motion` (exact at :math:`\omega = 0`) and the range–bearing–signature
-measurement function :math:`h` and its Jacobian from :mod:`probrob.sensors`, so each
-model exists once. The public functions validate their input once and then call those
-modules' unchecked cores (the public model functions are the same cores behind their
-checks); Table 7.2's sequential correction and the UKF's sigma-point motion run on Python
-floats, which for 3×3 algebra is several times faster than numpy calls on tiny arrays
-(``benchmarks/bench_filters.py``; equal to the per-call public functions to 1e-12,
-``tests/test_localization_fastpath.py``). Every bearing innovation, and every bearing and heading residual of
-the UKF, is wrapped with :mod:`probrob.angles`; the returned mean heading is wrapped to
-:math:`[-\pi, \pi)`.
+Each table is written once, in numpy, with the book's names (``G``, ``V``, ``M``, ``H``,
+``S``, ``K``, ``mu_bar``, ``Sigma_bar``) in the order of its lines. :math:`g` and its
+Jacobians come from :mod:`probrob.motion` (exact at :math:`\omega = 0`), :math:`h` and its
+Jacobian from :mod:`probrob.sensors`, so each model exists once. The public functions check
+their input once (:mod:`probrob._validation`) and then call the unchecked cores. Every
+bearing innovation, and every bearing and heading residual of the UKF, is wrapped with
+:mod:`probrob.angles`; the returned mean heading is wrapped to :math:`[-\pi, \pi)`.
 
 Conventions: a pose is ``(3,)`` :math:`(x, y, \theta)`, a control ``(2,)``
 :math:`(v, \omega)`, a step's features ``z`` are rows :math:`(r, \phi, s)` (shape
@@ -37,7 +39,6 @@ landmark row of each feature (shape ``(K,)``), ``alpha`` the four motion-noise p
 from __future__ import annotations
 
 import functools
-import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -46,6 +47,7 @@ import numpy as np
 
 from . import _validation as check
 from .angles import _wrap
+from .evaluation import chi2_quantile
 from .motion import (
     _arc,
     _velocity_jacobian_entries,
@@ -61,15 +63,9 @@ from .sensors import (
 
 __all__ = [
     "FilterRun",
-    "MotionNoiseFit",
-    "chi2_quantile",
-    "covariance_ellipse",
     "ekf_localization",
     "ekf_localization_known_correspondences",
     "ekf_predict_segment",
-    "fit_measurement_noise",
-    "fit_motion_noise",
-    "nees",
     "run_filter",
     "ukf_localization",
     "ukf_localization_ml",
@@ -77,80 +73,51 @@ __all__ = [
 ]
 
 _LOG_2PI = math.log(2.0 * math.pi)
-
-
-# --------------------------------------------------------------------------- validation
-
-
-def _covariance(Sigma, name: str = "Sigma") -> np.ndarray:
-    """A finite, symmetric, positive-definite 3×3 covariance."""
-    S = _finite(Sigma, name)
-    if S.shape != (3, 3):
-        raise ValueError(f"{name} must have shape (3, 3), got {S.shape}")
-    # np.allclose(S, S.T, rtol=1e-9, atol=1e-12), on the three pairs (floats: faster).
-    a = S.tolist()
-    for i, j in ((0, 1), (0, 2), (1, 2)):
-        if not abs(a[i][j] - a[j][i]) <= 1e-12 + 1e-9 * abs(a[j][i]):
-            raise ValueError(f"{name} must be symmetric")
-    # Singular but positive semi-definite is legal (Σ = 0 is a known pose).
-    _psd(S, name)
-    return S
-
-
-def _chol3(S: np.ndarray):
-    """Lower Cholesky factor of a symmetric 3×3 ``S`` in scalar arithmetic, or ``None``.
-
-    The Cholesky–Banachiewicz recurrence (LAPACK's ``potrf`` criterion: every pivot must
-    be > 0); a numpy/LAPACK call on a 3×3 matrix costs ten times the arithmetic.
-    """
-    (a00, _, _), (a10, a11, _), (a20, a21, a22) = S.tolist()
-    if not a00 > 0.0:
-        return None
-    l00 = math.sqrt(a00)
-    l10, l20 = a10 / l00, a20 / l00
-    d1 = a11 - l10 * l10
-    if not d1 > 0.0:
-        return None
-    l11 = math.sqrt(d1)
-    l21 = (a21 - l20 * l10) / l11
-    d2 = a22 - l20 * l20 - l21 * l21
-    if not d2 > 0.0:
-        return None
-    return [[l00, 0.0, 0.0], [l10, l11, 0.0], [l20, l21, math.sqrt(d2)]]
-
-
-def _psd(S: np.ndarray, name: str) -> None:
-    """Raise ``ValueError`` unless the symmetric ``S`` is positive semi-definite."""
-    if S.shape == (3, 3) and _chol3(S) is not None:
-        return
-    try:
-        np.linalg.cholesky(S)
-    except np.linalg.LinAlgError:
-        eig = np.linalg.eigvalsh(S)
-        if eig[0] < -1e-12 * max(1.0, eig[-1]):
-            raise ValueError(
-                f"{name} is not positive semi-definite (smallest eigenvalue {eig[0]:.3g})"
-            ) from None
-
-
-def _sqrt_psd(S: np.ndarray) -> np.ndarray:
-    """A square root ``R`` with ``R @ R.T == S``: the lower Cholesky factor if ``S`` is
-    positive definite, else the symmetric root (``S`` positive semi-definite)."""
-    if S.shape == (3, 3):
-        L = _chol3(S)
-        if L is not None:
-            return np.array(L)
-    try:
-        return np.linalg.cholesky(S)
-    except np.linalg.LinAlgError:
-        w, U = np.linalg.eigh(S)
-        return U * np.sqrt(np.clip(w, 0.0, None))
-
-
 _S_NAME = "S (the innovation covariance, from Sigma and sigmas)"
 
 
-def _cholesky(S: np.ndarray, name: str) -> np.ndarray:
+class _NonFinite(ValueError):
+    """A filter's arithmetic left float64 (inf or NaN from finite input).
+
+    Raised by the cores; each public function turns it into
+    :func:`probrob._validation.overflow_error` naming its own most extreme argument.
+    """
+
+
+def _finite_or_raise(what: str, *arrays) -> None:
+    if not all(np.isfinite(a).all() for a in arrays):
+        raise _NonFinite(what)
+
+
+def _checked(core, what: str, arguments: dict):
+    """Call ``core()``; a :class:`_NonFinite` becomes an overflow error naming ``arguments``."""
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return core()
+    except _NonFinite as exc:
+        raise check.overflow_error(f"{what} ({exc})", **arguments) from None
+
+
+# --------------------------------------------------------------------------- shared pieces
+
+
+def _motion_noise(alpha: np.ndarray, u: np.ndarray) -> np.ndarray:
+    r"""Diagonal of :math:`M_t` (Table 7.2, line 5): the control-noise variances.
+
+    :math:`(\alpha_1 v^2 + \alpha_2 \omega^2,\ \alpha_3 v^2 + \alpha_4 \omega^2)` for
+    ``u`` of shape (..., 2).
+    """
+    return np.square(u) @ np.reshape(alpha, (2, 2)).T
+
+
+def _innovation(z: np.ndarray, z_hat: np.ndarray) -> np.ndarray:
+    """``z - z_hat`` with the bearing (second component) wrapped to [-π, π)."""
+    nu = z - z_hat
+    nu[..., 1] = _wrap(nu[..., 1] if nu.ndim > 1 else float(nu[1]))
+    return nu
+
+
+def _cholesky(S: np.ndarray, name: str = _S_NAME) -> np.ndarray:
     """Lower Cholesky factor of ``S`` (..., n, n), or ``ValueError`` naming ``name``."""
     try:
         L = np.linalg.cholesky(S)
@@ -159,380 +126,127 @@ def _cholesky(S: np.ndarray, name: str) -> np.ndarray:
     if L is None or not np.all(np.isfinite(L)):
         raise ValueError(
             f"{name} is not positive definite (a covariance must be symmetric with "
-            "positive eigenvalues)"
+            "positive eigenvalues); check the scales of Sigma and sigmas"
         )
     return L
 
 
-def _finite(value, name: str) -> np.ndarray:
-    """``check.finite`` with a fast accept for small arrays (a filter step's arguments).
-
-    Anything that is not plainly finite goes through ``check.finite`` itself, so the
-    errors and their messages are the canonical ones.
-    """
-    arr = check.as_float_array(value, name)
-    if arr.size <= 64 and all(map(math.isfinite, arr.ravel().tolist())):
-        return arr
-    return check.finite(arr, name)
-
-
-def _dt(dt) -> float:
-    if type(dt) is float and math.isfinite(dt) and dt > 0.0:
-        return dt
-    return check.positive_scalar(dt, "dt")
-
-
-def _pose(mu, name: str = "mu") -> np.ndarray:
-    mu = _finite(mu, name)
-    if mu.shape != (3,):
-        check.poses(mu, name)
-        raise ValueError(f"{name} must have shape (3,), got {mu.shape}")
-    return mu
-
-
-def _control(u) -> np.ndarray:
-    u = _finite(u, "u")
-    if u.shape != (2,):
-        check.vectors(u, "u", 2, "v, omega")
-        raise ValueError(f"u must have shape (2,), got {u.shape}")
-    return u
-
-
-def _landmark_map(m) -> np.ndarray:
-    m = _finite(m, "m")
-    if m.ndim != 2 or m.shape[1] != 3:
-        raise ValueError(f"m must have shape (L, 3) (landmark x, y, s), got {m.shape}")
-    if m.shape[0] == 0:
-        raise ValueError("m is an empty map: it needs at least one landmark")
-    return m
-
-
-def _features(z) -> np.ndarray:
-    z = _finite(z, "z")
-    if z.size == 0:
-        return np.zeros((0, 3))
-    if z.ndim == 1:
-        z = z[None, :]
-    if z.ndim != 2 or z.shape[1] not in (2, 3):
-        raise ValueError(f"z must have shape (K, 3) (r, phi, s) or (K, 2) (r, phi), got {z.shape}")
-    if min(z[:, 0].tolist()) < 0:
-        raise ValueError("z: ranges must be >= 0")
-    return z
-
-
-def _correspondences(c, k: int, n_landmarks: int) -> np.ndarray:
-    arr = np.asarray(c)
-    if arr.size == 0 and k == 0:
-        return np.zeros(0, dtype=int)
-    arr = np.atleast_1d(arr)
-    if arr.dtype.kind not in "iu":
-        if arr.dtype.kind != "f" or not np.all(np.isfinite(arr)) or np.any(arr != np.round(arr)):
-            raise ValueError(f"c must hold integer landmark indices, got {c!r}")
-        arr = arr.astype(int)
-    if arr.shape != (k,):
-        raise ValueError(
-            f"c must have shape ({k},), one landmark index per feature, got {arr.shape}"
-        )
-    listed = arr.tolist()
-    if min(listed) < 0 or max(listed) >= n_landmarks:
-        raise ValueError(f"c must index the map's {n_landmarks} landmarks, got {listed}")
-    return arr.astype(int)
-
-
-def _alpha4(alpha) -> np.ndarray:
-    arr = _finite(alpha, "alpha")
-    if arr.shape == (4,) and min(arr.tolist()) >= 0.0:
-        return arr
-    return check.alphas(arr, "alpha", 4)
-
-
-def _sigmas(sigmas, count: int = 3) -> np.ndarray:
-    s = _finite(sigmas, "sigmas")
-    if s.shape not in ((2,), (3,)) or s.shape[0] < count:
-        need = "(sigma_r, sigma_phi, sigma_s)" if count == 3 else "(sigma_r, sigma_phi[, sigma_s])"
-        raise ValueError(f"sigmas must hold {need}, got shape {s.shape}")
-    if min(s.tolist()) <= 0:
-        raise ValueError(f"sigmas are standard deviations and must be > 0, got {s.tolist()}")
-    return s
-
-
-# --------------------------------------------------------------------------- shared pieces
-
-
-def _motion_noise(alpha: np.ndarray, u: np.ndarray) -> np.ndarray:
-    r"""Diagonal of :math:`M_t` (Table 7.2, line 5): control-noise variances."""
-    v2, w2 = u[0] ** 2, u[1] ** 2
-    return np.array([alpha[0] * v2 + alpha[1] * w2, alpha[2] * v2 + alpha[3] * w2])
-
-
-def _ekf_predict(mu, Sigma, u, dt, alpha):
-    """Lines 2–7 of Tables 7.2 and 7.3 (validated input), as arrays."""
-    mu_bar, P = _ekf_predict_floats(mu, Sigma, u, dt, alpha)
-    (p00, p01, p02, p11, p12, p22) = P
-    return np.array(mu_bar), np.array([[p00, p01, p02], [p01, p11, p12], [p02, p12, p22]])
-
-
-def _ekf_predict_floats(mu, Sigma, u, dt, alpha):
-    r"""Lines 2–7 of Tables 7.2 and 7.3 in scalar arithmetic.
-
-    :math:`g` and the entries of :math:`G_t, V_t` come from the model code of
-    :mod:`probrob.motion` (``_arc``, ``_velocity_jacobian_entries``) evaluated on floats.
-    With :math:`G = I + g e_3^T`, :math:`g = (G_{13}, G_{23}, 0)`:
-    :math:`(G\Sigma G^T)_{ij} = \Sigma_{ij} + g_i\Sigma_{3j} + \Sigma_{i3} g_j +
-    g_i g_j \Sigma_{33}` and :math:`(V M V^T)_{ij} = \sum_k M_k V_{ik} V_{jk}`.
-    Returns :math:`ar\mu` as a tuple and the upper triangle
-    :math:`(ar\Sigma_{11}, ar\Sigma_{12}, ar\Sigma_{13}, ar\Sigma_{22},
-    ar\Sigma_{23}, ar\Sigma_{33})`. ``Sigma`` is symmetrised first (it is validated
-    symmetric to 1e-9 relative).
-    """
-    x, y, th = mu.tolist()
-    v, w = u.tolist()
-    dt = float(dt)  # a Python float: the scalar path of the model code
-    a1, a2, a3, a4 = alpha.tolist()
-    try:
-        mu_bar = _arc(x, y, th, v, w, dt)
-        g0, g1, v00, v10, v01, v11 = _velocity_jacobian_entries(th, v, w, dt)
-    except ValueError:  # math.sin(inf): an overflowing control
-        raise ValueError(
-            "the filter produced a non-finite estimate; check the inputs' scales"
-        ) from None
-    m0 = a1 * v * v + a2 * w * w
-    m1 = a3 * v * v + a4 * w * w
-    (s00, s01, s02), (s10, s11, s12), (s20, s21, s22) = Sigma.tolist()
-    s01 = 0.5 * (s01 + s10)
-    s02 = 0.5 * (s02 + s20)
-    s12 = 0.5 * (s12 + s21)
-    # G Σ G^T (g_2 = 0), then + V M V^T (V_31 = 0, V_32 = Δt).
-    p00 = s00 + 2.0 * g0 * s02 + g0 * g0 * s22 + m0 * v00 * v00 + m1 * v01 * v01
-    p01 = s01 + g0 * s12 + s02 * g1 + g0 * g1 * s22 + m0 * v00 * v10 + m1 * v01 * v11
-    p11 = s11 + 2.0 * g1 * s12 + g1 * g1 * s22 + m0 * v10 * v10 + m1 * v11 * v11
-    p02 = s02 + g0 * s22 + m1 * v01 * dt
-    p12 = s12 + g1 * s22 + m1 * v11 * dt
-    p22 = s22 + m1 * dt * dt
-    return mu_bar, (p00, p01, p02, p11, p12, p22)
-
-
-def ekf_predict_segment(mu, Sigma, u, dt, alpha):
-    r"""Return the EKF predictions of ``n`` consecutive steps without features, all at once.
-
-        The composition of ``n`` prediction steps of Table 7.2 (lines 2–7),
-        :math:`ar\mu_k = g(u_k, ar\mu_{k-1})`,
-        :math:`ar\Sigma_k = G_k ar\Sigma_{k-1} G_k^T + V_k M_k V_k^T`, evaluated without
-        a loop over time. Two facts make this exact:
-
-        * :math:`g` moves the heading by :math:`\omega_k\Delta t_k` whatever the position, so
-          the headings are a cumulative sum and the position increments follow from them;
-        * every :math:`G_k = I + p_k e_3^T` with :math:`p_k = (G_{k,13}, G_{k,23}, 0)`, and
-          :math:`e_3^T p_j = 0`, so :math:`G_k \cdots G_{j+1} = I + (P_k - P_j) e_3^T` with
-          :math:`P_k = \sum_{i \le k} p_i`. With :math:`Q_j = V_j M_j V_j^T`,
-          :math:`r_j` its third column and :math:`q_j` its (3, 3) entry,
-
-          .. math::
-              ar\Sigma_k = \Phi_k \Sigma_0 \Phi_k^T + \sum_{j \le k} \left[Q_j + D r_j^T
-              + r_j D^T + q_j D D^T
-    ight]_{D = P_k - P_j},
-
-          and each sum over :math:`j` is a cumulative sum.
-
-        The result equals the step-by-step predictions to rounding (tested to 1e-10
-        relative). :func:`run_filter` uses it for the stretches between measurements.
-
-        Parameters
-        ----------
-        mu : array_like, shape (3,)
-        Sigma : array_like, shape (3, 3)
-        u : array_like, shape (n, 2)
-            Controls of the ``n`` steps.
-        dt : array_like, shape (n,) or float
-            Their lengths, > 0.
-        alpha : array_like, shape (4,)
-
-        Returns
-        -------
-        mu : ndarray, shape (n, 3)
-            :math:`ar\mu_1 \ldots ar\mu_n` (headings not wrapped).
-        Sigma : ndarray, shape (n, 3, 3)
-    """
-    mu, Sigma = _pose(mu), _covariance(Sigma)
-    u = check.vectors(u, "u", 2, "v, omega")
-    if u.ndim != 2:
-        raise ValueError(f"u must have shape (n, 2), got {u.shape}")
-    dt = _step_lengths(dt, u.shape[0])
-    return _predict_segment(mu, Sigma, u, dt, _alpha4(alpha))
-
-
-def _step_lengths(dt, n: int) -> np.ndarray:
-    """``dt`` as ``n`` step lengths > 0 (one value or one per step)."""
-    dt = check.finite(dt, "dt")
-    if dt.shape not in ((), (n,)):
-        raise ValueError(f"dt must be a scalar or have shape ({n},), got shape {dt.shape}")
-    if np.any(dt <= 0):
-        raise ValueError("dt must be > 0")
-    return np.broadcast_to(dt, (n,))
-
-
-def _predict_segment(mu, Sigma, u, dt, alpha):
-    n = u.shape[0]
-    if n == 0:
-        return np.zeros((0, 3)), np.zeros((0, 3, 3))
-    # g(x, (v, ω), Δt) = g(x, (vΔt, ωΔt), 1) and V(x, u, Δt) = Δt·V(x, uΔt, 1).
-    ud = u * dt[:, None]
-    starts = np.zeros((n, 3))
-    starts[0, 2] = mu[2]
-    starts[1:, 2] = mu[2] + np.cumsum(ud[:-1, 1])
-    steps = _velocity_motion_core(starts, ud, 1.0)  # position increments, new headings
-    mus = np.empty((n, 3))
-    mus[:, 0] = mu[0] + np.cumsum(steps[:, 0])
-    mus[:, 1] = mu[1] + np.cumsum(steps[:, 1])
-    mus[:, 2] = steps[:, 2]
-    G, V = _velocity_jacobians_core(starts, ud, 1.0)
-    V *= dt[:, None, None]
-    var = np.stack(
-        [
-            alpha[0] * u[:, 0] ** 2 + alpha[1] * u[:, 1] ** 2,
-            alpha[2] * u[:, 0] ** 2 + alpha[3] * u[:, 1] ** 2,
-        ],
-        axis=-1,
-    )
-    Q = (V * var[:, None, :]) @ np.swapaxes(V, -1, -2)  # (n, 3, 3)
-    P = np.zeros((n, 3))
-    P[:, 0] = np.cumsum(G[:, 0, 2])
-    P[:, 1] = np.cumsum(G[:, 1, 2])
-    r = Q[:, :, 2]
-    q = Q[:, 2, 2]
-    cum_Q = np.cumsum(Q, axis=0)
-    R = np.cumsum(r, axis=0)
-    C = np.cumsum(P[:, :, None] * r[:, None, :], axis=0)
-    W = np.cumsum(q)
-    E = np.cumsum(q[:, None] * P, axis=0)
-    F = np.cumsum(q[:, None, None] * P[:, :, None] * P[:, None, :], axis=0)
-    X = P[:, :, None] * R[:, None, :] - C
-    PP = P[:, :, None] * P[:, None, :]
-    PE = P[:, :, None] * E[:, None, :]
-    noise = (
-        cum_Q
-        + X
-        + np.swapaxes(X, -1, -2)
-        + W[:, None, None] * PP
-        - PE
-        - np.swapaxes(PE, -1, -2)
-        + F
-    )
-    Phi = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
-    Phi[:, :, 2] += P
-    Sigmas = Phi @ Sigma @ np.swapaxes(Phi, -1, -2) + noise
-    return mus, 0.5 * (Sigmas + np.swapaxes(Sigmas, -1, -2))
-
-
-def _innovation(z: np.ndarray, zhat: np.ndarray) -> np.ndarray:
-    """``z - zhat`` with the bearing (second component) wrapped to [-π, π)."""
-    nu = z - zhat
-    nu[..., 1] = _wrap(nu[..., 1])
-    return nu
-
-
-def _gaussian_terms(nu: np.ndarray, S: np.ndarray, name: str = _S_NAME):
-    """Mahalanobis distances² and log-densities of innovations ``nu`` (..., d) under S."""
-    L = _cholesky(S, name)
+def _log_normal(nu: np.ndarray, L: np.ndarray):
+    r"""Mahalanobis distances² and :math:`\log N(\nu; 0, S)` with ``L`` the Cholesky factor of S."""
     w = np.linalg.solve(L, nu[..., None])[..., 0]
     d2 = np.sum(w * w, axis=-1)
-    logdet = 2.0 * np.sum(np.log(np.diagonal(L, axis1=-2, axis2=-1)), axis=-1)
-    d = nu.shape[-1]
-    return d2, -0.5 * (d2 + logdet + d * _LOG_2PI)
+    log_det = 2.0 * np.sum(np.log(np.diagonal(L, axis1=-2, axis2=-1)), axis=-1)
+    return d2, -0.5 * (d2 + log_det + nu.shape[-1] * _LOG_2PI)
 
 
-def _correct(mu_bar, Sigma_bar, nu, H, S):
-    r"""One EKF correction (Table 7.2, lines 15–17) and the feature's log-likelihood.
-
-    Returns the new μ̄, Σ̄ and :math:`\log N(\nu; 0, S)` (line 21's factor). ``S`` is
-    positive definite by construction (:math:`Q_t` is); its determinant and diagonal are
-    checked anyway, against rounding with badly scaled inputs.
-    """
-    sign, logdet = np.linalg.slogdet(S)
-    if not sign > 0 or not S[0, 0] > 0 or not S[1, 1] > 0:
-        raise ValueError("S is not positive definite; check the scales of Sigma and sigmas")
-    S_inv = np.linalg.inv(S)
-    PHt = Sigma_bar @ H.T
-    K = PHt @ S_inv
-    mu_bar = mu_bar + K @ nu
-    Sigma_bar = Sigma_bar - K @ PHt.T
-    d2 = float(nu @ S_inv @ nu)
-    logp = -0.5 * (d2 + float(logdet) + nu.shape[0] * _LOG_2PI)
-    return mu_bar, 0.5 * (Sigma_bar + Sigma_bar.T), logp
+def _sqrt_psd(S: np.ndarray) -> np.ndarray:
+    """A square root ``R`` with ``R @ R.T == S``: the lower Cholesky factor if ``S`` is
+    positive definite, else the symmetric root (``S`` positive semi-definite)."""
+    try:
+        return np.linalg.cholesky(S)
+    except np.linalg.LinAlgError:
+        w, U = np.linalg.eigh(S)
+        return U * np.sqrt(np.clip(w, 0.0, None))
 
 
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
+    """Lines 19–20 (Tables 7.2, 7.3) and 15–16 (7.4): the heading wrapped, Σ symmetrised."""
+    _finite_or_raise("the estimate", mu, Sigma)
     mu = mu.copy()
     mu[2] = _wrap(float(mu[2]))
-    if not all(map(math.isfinite, mu.tolist() + Sigma.ravel().tolist())):
-        raise ValueError("the filter produced a non-finite estimate; check the inputs' scales")
-    return mu, Sigma
+    return mu, 0.5 * (Sigma + Sigma.T)
 
 
-def chi2_quantile(p: float, dof: int) -> float:
-    r"""Return the ``p``-quantile of the χ² distribution with ``dof`` degrees of freedom.
-
-    Bisection on the closed-form CDF (regularised lower incomplete gamma function,
-    summed in closed form for integer ``dof``), accurate to ~1e-12. Used for the χ²
-    gate of :func:`ekf_localization` and the NEES bounds, without a SciPy dependency.
-
-    Parameters
-    ----------
-    p : float
-        Probability in (0, 1).
-    dof : int
-        Degrees of freedom, >= 1.
-
-    Returns
-    -------
-    q : float
-        The value with :math:`P(\chi^2_{dof} \le q) = p`.
-    """
-    p = check.as_float_array(p, "p")
-    if p.ndim != 0 or not 0.0 < p < 1.0:
-        raise ValueError(f"p must lie in (0, 1), got {check._short(p)}")
-    p = float(p)
-    dof = check.count(dof, "dof", 1)
-
-    def cdf(x: float) -> float:
-        h = 0.5 * x
-        if dof % 2 == 0:
-            # 1 - e^{-h} Σ_{k < dof/2} h^k / k!
-            term, total = 1.0, 1.0
-            for k in range(1, dof // 2):
-                term *= h / k
-                total += term
-            return 1.0 - math.exp(-h) * total
-        # erf(√h) - e^{-h} Σ_{k=1}^{(dof-1)/2} h^{k-1/2} / Γ(k + 1/2)
-        total = 0.0
-        term = math.sqrt(h) / math.gamma(1.5) if h > 0 else 0.0
-        for k in range(1, (dof + 1) // 2):
-            total += term
-            term *= h / (k + 0.5)
-        return math.erf(math.sqrt(h)) - math.exp(-h) * total
-
-    lo, hi = 0.0, float(dof)
-    while cdf(hi) < p:
-        hi *= 2.0
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if cdf(mid) < p:
-            lo = mid
-        else:
-            hi = mid
-        if hi - lo <= 1e-13 * max(1.0, hi):
-            break
-    return 0.5 * (lo + hi)
+def _filter_arguments(mu, Sigma, u, z, m, dt, alpha, sigmas, sigma_lengths):
+    """The checks shared by the one-step filters; returns the validated arrays."""
+    return (
+        check.single_pose(mu, "mu"),
+        check.covariance(Sigma, "Sigma"),
+        check.vector(u, "u", 2, "v, omega"),
+        check.features(z, "z"),
+        check.landmark_map(m, "m"),
+        check.positive_scalar(dt, "dt"),
+        check.alphas(alpha, "alpha", 4),
+        check.sigmas(sigmas, "sigmas", sigma_lengths, positive=True),
+    )
 
 
 # --------------------------------------------------------------------------- Table 7.2
 
 
-def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sigmas, *, log=False):
-    r"""Return :math:`\mu_t, \Sigma_t, p(z_t)` of one EKF step with known correspondences.
+def _model_at(function, *args):
+    """A model function of :mod:`probrob.motion` or :mod:`probrob.sensors` at one point (floats).
 
-    *Probabilistic Robotics*, Table 7.2. Prediction with the velocity motion model
-    (lines 2–7):
+    Float arithmetic overflows to ``inf`` silently, but ``math.sin(inf)`` raises: both are
+    reported as :class:`_NonFinite`.
+    """
+    try:
+        values = function(*args)
+    except (ValueError, OverflowError):
+        raise _NonFinite("the motion model") from None
+    if not all(map(math.isfinite, values)):
+        raise _NonFinite("the motion model")
+    return values
+
+
+def _ekf_predict(mu, Sigma, u, dt, alpha):
+    """Table 7.2, lines 2–7 (the prediction, shared by Table 7.3), on validated input.
+
+    :math:`g` and the entries of :math:`G_t, V_t` are the model code of
+    :mod:`probrob.motion` evaluated at the one pose; the matrices are the table's.
+    """
+    x, y, theta = mu.tolist()  # line 2
+    v, w = u.tolist()
+    g13, g23, v11, v21, v12, v22 = _model_at(_velocity_jacobian_entries, theta, v, w, dt)
+    G = np.array([[1.0, 0.0, g13], [0.0, 1.0, g23], [0.0, 0.0, 1.0]])  # line 3
+    V = np.array([[v11, v12], [v21, v22], [0.0, dt]])  # line 4
+    M = np.diag(_motion_noise(alpha, u))  # line 5
+    mu_bar = np.array(_model_at(_arc, x, y, theta, v, w, dt))  # line 6
+    Sigma_bar = G @ Sigma @ G.T + V @ M @ V.T  # line 7
+    _finite_or_raise("the prediction", Sigma_bar)
+    return mu_bar, Sigma_bar
+
+
+def _landmark_at(mu_bar, landmark, d):
+    r"""Table 7.2, lines 11–13, for one landmark: :math:`\hat z` and :math:`H` (``d`` rows).
+
+    :math:`h` and the entries of :math:`H` are the model code of :mod:`probrob.sensors`
+    evaluated at the one pose; the matrix is the table's.
+    """
+    x, y, theta = mu_bar.tolist()
+    m_x, m_y, m_s = landmark.tolist()
+    delta_x, delta_y = m_x - x, m_y - y  # line 11: q = δ_x² + δ_y²
+    r_hat, phi_hat = _range_bearing(delta_x, delta_y, theta)
+    z_hat = np.array([r_hat, phi_hat, m_s][:d])  # line 12
+    h11, h12, h21, h22 = _jacobian_entries(delta_x, delta_y)
+    H = np.array([[h11, h12, 0.0], [h21, h22, -1.0], [0.0, 0.0, 0.0]][:d])  # line 13
+    return z_hat, H
+
+
+def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
+    """Table 7.2 on validated input; returns μ_t, Σ_t and log p(z_t)."""
+    mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
+    d = z.shape[1]
+    Q = np.diag(sigmas[:d] ** 2)  # line 8
+    log_p = 0.0
+    for z_i, j in zip(z, c, strict=True):  # lines 9-10
+        z_hat, H = _landmark_at(mu_bar, m[j], d)  # lines 11-13
+        S = H @ Sigma_bar @ H.T + Q  # line 14
+        L = _cholesky(S)
+        K = Sigma_bar @ H.T @ np.linalg.inv(S)  # line 15
+        nu = _innovation(z_i, z_hat)
+        mu_bar = mu_bar + K @ nu  # line 16
+        Sigma_bar = (np.eye(3) - K @ H) @ Sigma_bar  # line 17
+        log_p += float(_log_normal(nu, L)[1])  # line 21, one factor
+    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 19-20
+    return mu_t, Sigma_t, log_p
+
+
+def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sigmas, *, log=False):
+    r"""Table 7.2, lines 1–22: return :math:`\mu_t, \Sigma_t, p(z_t)` of one EKF step.
+
+    *Probabilistic Robotics*, Table 7.2 (EKF localization with known correspondences).
+    Prediction with the velocity motion model (lines 2–7):
 
     .. math::
         \bar\mu_t = g(u_t, \mu_{t-1}),\qquad
@@ -590,101 +304,159 @@ def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sig
     Raises
     ------
     ValueError
-        On bad input, a non-positive-definite ``Sigma`` or innovation covariance ``S``.
+        On bad input, a non-positive-definite ``Sigma`` or innovation covariance ``S``, or
+        an estimate that overflows float64 (naming the most extreme argument).
     """
-    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
-    m = _landmark_map(m)
-    z = _features(z)
-    c = _correspondences(c, z.shape[0], m.shape[0])
-    dt = _dt(dt)
-    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
-
-    mu_t, Sigma_t, log_pz = _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas)
-    return mu_t, Sigma_t, (log_pz if log else math.exp(log_pz))
-
-
-def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
-    """Table 7.2 on validated input; returns μ, Σ and log p(z)."""
-    mu_bar, P = _ekf_predict_floats(mu, Sigma, u, dt, alpha)
-    return _ekf_known_correct(mu_bar, P, z, c, m, sigmas)
+    args = _filter_arguments(mu, Sigma, u, z, m, dt, alpha, sigmas, (3,))
+    mu, Sigma, u, z, m, dt, alpha, sigmas = args
+    c = check.landmark_indices(c, "c", z.shape[0], m.shape[0])
+    log = check.flag(log, "log")
+    mu_t, Sigma_t, log_p = _checked(
+        lambda: _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas),
+        "Table 7.2's step",
+        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+    )
+    return mu_t, Sigma_t, (log_p if log else math.exp(log_p))
 
 
-def _ekf_known_correct(mu_bar, P, z, c, m, sigmas):
-    r"""Lines 8–21 of Table 7.2: the features in sequence, in scalar arithmetic.
+# --------------------------------------------------------------------------- segments
 
-        The same algebra as :func:`_correct` (:math:`S = Har\Sigma H^T + Q_t`,
-        :math:`K = ar\Sigma H^T S^{-1}`, :math:`ar\mu \mathrel{+}= K
-    u`,
-        :math:`ar\Sigma \mathrel{-}= K (ar\Sigma H^T)^T`, :math:`\log N(
-    u; 0, S)`) written
-        out on Python floats, because a step is a few 3×3 products per feature and a numpy call
-        on such tiny arrays costs more than the arithmetic. :math:`\hat z` and :math:`H` come
-        from the same model code as :func:`probrob.sensors.landmark_measurement` and
-        :func:`probrob.sensors.landmark_measurement_jacobian` (``_range_bearing``,
-        ``_jacobian_entries``). The third row of :math:`H` (signature) is zero, so :math:`S`
-        is block-diagonal, :math:`\mathrm{diag}(S_{2	imes2}, \sigma_s^2)`, and the signature
-        enters only :math:`p(z_t)`. ``mu_bar`` and ``P`` as returned by
-        :func:`_ekf_predict_floats`.
+
+def ekf_predict_segment(mu, Sigma, u, dt, alpha):
+    r"""Table 7.2, lines 2–7, over ``n`` steps without features: all predictions at once.
+
+    The composition of ``n`` prediction steps of Table 7.2,
+    :math:`\bar\mu_k = g(u_k, \bar\mu_{k-1})`,
+    :math:`\bar\Sigma_k = G_k \bar\Sigma_{k-1} G_k^T + V_k M_k V_k^T`, evaluated without
+    a loop over time. Two facts make this exact:
+
+    * :math:`g` moves the heading by :math:`\omega_k\Delta t_k` whatever the position, so
+      the headings are a cumulative sum and the position increments follow from them;
+    * every :math:`G_k = I + p_k e_3^T` with :math:`p_k = (G_{k,13}, G_{k,23}, 0)`, and
+      :math:`e_3^T p_j = 0`, so :math:`G_k \cdots G_{j+1} = I + (P_k - P_j) e_3^T` with
+      :math:`P_k = \sum_{i \le k} p_i`. With :math:`Q_j = V_j M_j V_j^T`,
+      :math:`r_j` its third column and :math:`q_j` its (3, 3) entry,
+
+      .. math::
+          \bar\Sigma_k = \Phi_k \Sigma_0 \Phi_k^T + \sum_{j \le k} \left[Q_j + D r_j^T
+          + r_j D^T + q_j D D^T\right]_{D = P_k - P_j},
+
+      and each sum over :math:`j` is a cumulative sum.
+
+    The result equals the step-by-step predictions to rounding (tested to 1e-10
+    relative). :func:`run_filter` uses it for the stretches between measurements.
+
+    Parameters
+    ----------
+    mu : array_like, shape (3,)
+    Sigma : array_like, shape (3, 3)
+    u : array_like, shape (n, 2)
+        Controls of the ``n`` steps.
+    dt : array_like, shape (n,) or float
+        Their lengths, > 0.
+    alpha : array_like, shape (4,)
+
+    Returns
+    -------
+    mu : ndarray, shape (n, 3)
+        :math:`\bar\mu_1 \ldots \bar\mu_n` (headings not wrapped).
+    Sigma : ndarray, shape (n, 3, 3)
+
+    Raises
+    ------
+    ValueError
+        On bad input, or predictions that overflow float64 (naming the most extreme
+        argument).
     """
-    d = z.shape[1]
-    s_r2, s_p2 = float(sigmas[0]) ** 2, float(sigmas[1]) ** 2
-    s_s2 = float(sigmas[2]) ** 2 if d == 3 else 1.0
-    const = d * _LOG_2PI + (math.log(s_s2) if d == 3 else 0.0)
-    x, y, th = mu_bar
-    p00, p01, p02, p11, p12, p22 = P
-    p10, p20, p21 = p01, p02, p12
-    feats = z.tolist()
-    lms = m[c].tolist()
-    log_pz = 0.0
-    for f, lm in zip(feats, lms, strict=True):
-        dx, dy = lm[0] - x, lm[1] - y
-        r_hat, phi_hat = _range_bearing(dx, dy, th)
-        h00, h01, h10, h11 = _jacobian_entries(dx, dy)
-        # P H^T (third column zero): rows a = x, y, θ.
-        a0, a1 = p00 * h00 + p01 * h01, p00 * h10 + p01 * h11 - p02
-        b0, b1 = p10 * h00 + p11 * h01, p10 * h10 + p11 * h11 - p12
-        c0, c1 = p20 * h00 + p21 * h01, p20 * h10 + p21 * h11 - p22
-        s00 = h00 * a0 + h01 * b0 + s_r2
-        s01 = h00 * a1 + h01 * b1
-        s10 = h10 * a0 + h11 * b0 - c0
-        s11 = h10 * a1 + h11 * b1 - c1 + s_p2
-        s01 = s10 = 0.5 * (s01 + s10)
-        det = s00 * s11 - s01 * s10
-        if not (det > 0.0 and s00 > 0.0 and s11 > 0.0):
-            raise ValueError("S is not positive definite; check the scales of Sigma and sigmas")
-        i00, i01, i11 = s11 / det, -s01 / det, s00 / det
-        n0 = f[0] - r_hat
-        n1 = _wrap(f[1] - phi_hat)
-        # K = P H^T S^{-1} (first two columns; the third is zero).
-        k00, k01 = a0 * i00 + a1 * i01, a0 * i01 + a1 * i11
-        k10, k11 = b0 * i00 + b1 * i01, b0 * i01 + b1 * i11
-        k20, k21 = c0 * i00 + c1 * i01, c0 * i01 + c1 * i11
-        x += k00 * n0 + k01 * n1
-        y += k10 * n0 + k11 * n1
-        th += k20 * n0 + k21 * n1
-        # Σ -= K (P H^T)^T, symmetrised.
-        p00 -= k00 * a0 + k01 * a1
-        p11 -= k10 * b0 + k11 * b1
-        p22 -= k20 * c0 + k21 * c1
-        p01 = p10 = p01 - 0.5 * ((k00 * b0 + k01 * b1) + (k10 * a0 + k11 * a1))
-        p02 = p20 = p02 - 0.5 * ((k00 * c0 + k01 * c1) + (k20 * a0 + k21 * a1))
-        p12 = p21 = p12 - 0.5 * ((k10 * c0 + k11 * c1) + (k20 * b0 + k21 * b1))
-        d2 = n0 * (i00 * n0 + i01 * n1) + n1 * (i01 * n0 + i11 * n1)
-        if d == 3:
-            n2 = f[2] - lm[2]
-            d2 += n2 * n2 / s_s2
-        log_pz += -0.5 * (d2 + math.log(det) + const)
-    mu_t = np.array([x, y, th])
-    Sigma_t = np.array([[p00, p01, p02], [p10, p11, p12], [p20, p21, p22]])
-    mu_t, Sigma_t = _finish(mu_t, Sigma_t)
-    return mu_t, Sigma_t, log_pz
+    mu, Sigma = check.single_pose(mu, "mu"), check.covariance(Sigma, "Sigma")
+    u = check.vectors(u, "u", 2, "v, omega")
+    if u.ndim != 2:
+        raise ValueError(f"u must have shape (n, 2), got {u.shape}")
+    dt = check.step_lengths(dt, "dt", u.shape[0])
+    alpha = check.alphas(alpha, "alpha", 4)
+    return _checked(
+        lambda: _predict_segment(mu, Sigma, u, dt, alpha),
+        "the predictions",
+        dict(mu=mu, Sigma=Sigma, u=u, dt=dt, alpha=alpha),
+    )
+
+
+def _predict_segment(mu, Sigma, u, dt, alpha):
+    """:func:`ekf_predict_segment` on validated input (under ``np.errstate``)."""
+    n = u.shape[0]
+    if n == 0:
+        return np.zeros((0, 3)), np.zeros((0, 3, 3))
+    # g(x, (v, ω), Δt) = g(x, (vΔt, ωΔt), 1) and V(x, u, Δt) = Δt·V(x, uΔt, 1).
+    ud = u * dt[:, None]
+    starts = np.zeros((n, 3))
+    starts[0, 2] = mu[2]
+    starts[1:, 2] = mu[2] + np.cumsum(ud[:-1, 1])
+    steps = _velocity_motion_core(starts, ud, 1.0)  # position increments, new headings
+    mu_bar = np.empty((n, 3))
+    mu_bar[:, 0] = mu[0] + np.cumsum(steps[:, 0])
+    mu_bar[:, 1] = mu[1] + np.cumsum(steps[:, 1])
+    mu_bar[:, 2] = steps[:, 2]
+    G, V = _velocity_jacobians_core(starts, ud, 1.0)
+    V *= dt[:, None, None]
+    M = _motion_noise(alpha, u)  # (n, 2), the diagonals of M_k
+    Q = (V * M[:, None, :]) @ np.swapaxes(V, -1, -2)  # V_k M_k V_k^T, (n, 3, 3)
+    P = np.zeros((n, 3))
+    P[:, 0] = np.cumsum(G[:, 0, 2])
+    P[:, 1] = np.cumsum(G[:, 1, 2])
+    r = Q[:, :, 2]
+    q = Q[:, 2, 2]
+    R = np.cumsum(r, axis=0)
+    C = np.cumsum(P[:, :, None] * r[:, None, :], axis=0)
+    W = np.cumsum(q)
+    E = np.cumsum(q[:, None] * P, axis=0)
+    F = np.cumsum(q[:, None, None] * P[:, :, None] * P[:, None, :], axis=0)
+    X = P[:, :, None] * R[:, None, :] - C
+    PP = P[:, :, None] * P[:, None, :]
+    PE = P[:, :, None] * E[:, None, :]
+    noise = np.cumsum(Q, axis=0) + X + np.swapaxes(X, -1, -2) + W[:, None, None] * PP
+    noise += F - PE - np.swapaxes(PE, -1, -2)
+    Phi = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
+    Phi[:, :, 2] += P
+    Sigma_bar = Phi @ Sigma @ np.swapaxes(Phi, -1, -2) + noise
+    _finite_or_raise("the predictions", mu_bar, Sigma_bar)
+    return mu_bar, 0.5 * (Sigma_bar + np.swapaxes(Sigma_bar, -1, -2))
 
 
 # --------------------------------------------------------------------------- Table 7.3
 
 
+def _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold):
+    """Table 7.3 on validated input: every landmark scored at once, features in sequence."""
+    mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
+    d = z.shape[1]
+    Q = np.diag(sigmas[:d] ** 2)  # line 8
+    landmarks = m[:, :d]
+    j = np.full(z.shape[0], -1, dtype=int)
+    for i in range(z.shape[0]):  # line 9; lines 10-15 for all landmarks k at once
+        z_hat = _landmark_measurement_core(mu_bar, landmarks)  # lines 11-12, (L, d)
+        H = _landmark_jacobian_core(mu_bar, landmarks)  # line 13, (L, d, 3)
+        S = H @ Sigma_bar @ np.swapaxes(H, -1, -2) + Q  # line 14, (L, d, d)
+        nu = _innovation(z[i], z_hat)
+        d2, log_p = _log_normal(nu, _cholesky(S))
+        k = int(np.argmax(log_p))  # line 16: j(i) = argmax_k N(z_i; z_hat_k, S_k)
+        if threshold is not None and d2[k] > threshold:
+            continue
+        j[i] = k
+        K = Sigma_bar @ H[k].T @ np.linalg.inv(S[k])  # line 17
+        mu_bar = mu_bar + K @ nu[k]  # line 18
+        Sigma_bar = (np.eye(3) - K @ H[k]) @ Sigma_bar  # line 19
+    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 21-22
+    return mu_t, Sigma_t, j
+
+
+def _gate_threshold(gate, dof):
+    if gate is None:
+        return None
+    return chi2_quantile(check.open_probability(gate, "gate"), dof)
+
+
 def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
-    r"""Return :math:`\mu_t, \Sigma_t` and the maximum-likelihood landmark of each feature.
+    r"""Table 7.3, lines 1–23: return :math:`\mu_t, \Sigma_t` and the most likely landmark of each feature.
 
     *Probabilistic Robotics*, Table 7.3 (EKF localization with unknown
     correspondences). Prediction as in :func:`ekf_localization_known_correspondences`;
@@ -708,8 +480,9 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
     gate : float, optional
         Off by default (``None``): the book's algorithm, every feature is associated.
         A probability such as 0.99: a feature whose most likely landmark lies outside
-        the χ² gate :math:`(z - \hat z)^T S^{-1} (z - \hat z) >` ``chi2_quantile(gate,
-        d)`` (``d`` = 2 or 3 components) is rejected (index -1) and not used.
+        the χ² gate :math:`(z - \hat z)^T S^{-1} (z - \hat z) >`
+        :func:`~probrob.evaluation.chi2_quantile` ``(gate, d)`` (``d`` = 2 or 3
+        components) is rejected (index -1) and not used.
 
     Returns
     -------
@@ -718,52 +491,36 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
     c : ndarray of int, shape (K,)
         The chosen landmark row :math:`j(i)` of each feature; -1 where the gate rejected it.
     """
-    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
-    m = _landmark_map(m)
-    z = _features(z)
-    dt = _dt(dt)
-    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 3)
+    args = _filter_arguments(mu, Sigma, u, z, m, dt, alpha, sigmas, (3,))
+    mu, Sigma, u, z, m, dt, alpha, sigmas = args
     threshold = _gate_threshold(gate, z.shape[1])
-
-    mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)
-    return _ekf_ml_correct(mu_bar, Sigma_bar, z, m, sigmas, threshold)
-
-
-def _ekf_ml_correct(mu_bar, Sigma_bar, z, m, sigmas, threshold):
-    """Lines 8–22 of Table 7.3: every landmark scored at once, features in sequence."""
-    d = z.shape[1]
-    Q = np.diag(sigmas[:d] ** 2)
-    landmarks = m[:, :d]
-    chosen = np.full(z.shape[0], -1, dtype=int)
-    for i in range(z.shape[0]):
-        zhat = _landmark_measurement_core(mu_bar, landmarks)  # (L, d)
-        H = _landmark_jacobian_core(mu_bar, landmarks)  # (L, d, 3)
-        S = H @ Sigma_bar @ np.swapaxes(H, -1, -2) + Q
-        nu = _innovation(z[i], zhat)
-        d2, logp = _gaussian_terms(nu, S)
-        j = int(np.argmax(logp))
-        if threshold is not None and d2[j] > threshold:
-            continue
-        chosen[i] = j
-        mu_bar, Sigma_bar, _ = _correct(mu_bar, Sigma_bar, nu[j], H[j], S[j])
-    mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
-    return mu_t, Sigma_t, chosen
+    return _checked(
+        lambda: _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold),
+        "Table 7.3's step",
+        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+    )
 
 
 # --------------------------------------------------------------------------- Table 7.4
 
 
 def ukf_weights(n: int, ukf_alpha: float = 1.0, beta: float = 2.0, kappa: float = 0.0):
-    r"""Return :math:`\gamma` and the weights :math:`w^{(m)}, w^{(c)}` of the scaled unscented transform.
+    r"""The weights of Table 7.4, lines 6–13: return :math:`\gamma, w^{(m)}, w^{(c)}`.
 
-    *Probabilistic Robotics*, Table 3.4 (used by Table 7.4), the scaled sigma points of
-    Wan and van der Merwe: with :math:`\lambda = \alpha^2 (n + \kappa) - n`,
+    *Probabilistic Robotics*, Sec. 3.4.2 (the unscented Kalman filter, Table 3.4), the
+    scaled sigma points of Wan and van der Merwe: with :math:`\lambda = \alpha^2 (n + \kappa) - n`,
 
     .. math::
         \gamma = \sqrt{n + \lambda},\quad
         w_0^{(m)} = \frac{\lambda}{n + \lambda},\quad
         w_0^{(c)} = \frac{\lambda}{n + \lambda} + (1 - \alpha^2 + \beta),\quad
         w_i^{(m)} = w_i^{(c)} = \frac{1}{2(n + \lambda)}\ (i = 1 \ldots 2n).
+
+    :math:`n + \lambda = \alpha^2 (n + \kappa)` is computed as that product (not as
+    :math:`n + \lambda` after rounding :math:`\lambda`). Parameters for which it is not a
+    positive float64, or for which the weights are not finite or cancel to rounding (the
+    weighted mean of equal points must return the point to 1e-6; about
+    :math:`\alpha < 2\cdot10^{-5}`), raise ``ValueError`` naming them.
 
     Parameters
     ----------
@@ -782,14 +539,124 @@ def ukf_weights(n: int, ukf_alpha: float = 1.0, beta: float = 2.0, kappa: float 
     a = check.positive_scalar(ukf_alpha, "ukf_alpha")
     beta = float(check.finite(beta, "beta"))
     kappa = float(check.finite(kappa, "kappa"))
-    if n + kappa <= 0:
+    return _ukf_weights(n, a, beta, kappa)
+
+
+def _ukf_weights(n, a, beta, kappa):
+    if not n + kappa > 0:
         raise ValueError(f"kappa must satisfy n + kappa > 0 (n = {n}), got {kappa!r}")
-    lam = a * a * (n + kappa) - n
-    wm = np.full(2 * n + 1, 0.5 / (n + lam))
-    wc = wm.copy()
-    wm[0] = lam / (n + lam)
-    wc[0] = lam / (n + lam) + (1.0 - a * a + beta)
-    return math.sqrt(n + lam), wm, wc
+    spread = a * a * (n + kappa)  # n + λ
+    lam = spread - n
+    given = f"ukf_alpha = {a!r}, beta = {beta!r}, kappa = {kappa!r}, n = {n}"
+    if not (math.isfinite(spread) and spread > 0):
+        raise ValueError(
+            f"ukf_alpha and kappa give n + lambda = ukf_alpha**2 (n + kappa) = {spread!r}, "
+            f"which must be a positive float64; got {given}"
+        )
+    with np.errstate(over="ignore", invalid="ignore"):
+        wm = np.full(2 * n + 1, 0.5 / spread)
+        wc = wm.copy()
+        wm[0] = lam / spread
+        wc[0] = lam / spread + (1.0 - a * a + beta)
+        rounding = np.finfo(float).eps * float(np.sum(np.abs(wm)))
+    if not (np.all(np.isfinite(wm)) and np.all(np.isfinite(wc))):
+        raise ValueError(f"ukf_alpha, beta and kappa give non-finite weights; got {given}")
+    if not (rounding <= 1e-6 and abs(float(np.sum(wm)) - 1.0) <= 1e-6):
+        raise ValueError(
+            f"ukf_alpha is too small: the weights (w0 = {wm[0]:.3g}) cancel to rounding "
+            f"(their sum is {float(np.sum(wm))!r}, not 1); got {given}"
+        )
+    return math.sqrt(spread), wm, wc
+
+
+@functools.lru_cache(maxsize=64)
+def _weights_cached(n, a, beta, kappa):
+    gamma, wm, wc = _ukf_weights(n, a, beta, kappa)
+    wm.setflags(write=False)
+    wc.setflags(write=False)
+    return gamma, wm, wc
+
+
+def _ukf_params(ukf_alpha, beta, kappa):
+    a = check.positive_scalar(ukf_alpha, "ukf_alpha")
+    beta = float(check.finite(beta, "beta"))
+    kappa = float(check.finite(kappa, "kappa"))
+    _weights_cached(5, a, beta, kappa)  # the smallest state: a step without features
+    return a, beta, kappa
+
+
+def _circular_mean(w, angles):
+    r"""Weighted mean of ``angles`` (sigma points along axis 0) about the central point.
+
+    :math:`\theta_0 + \sum_i w_i \mathrm{wrap}(\theta_i - \theta_0)`: the mean of the
+    angles unwrapped next to :math:`\theta_0`, right across ±π and with a negative
+    :math:`w_0` (where a mean of unit vectors would not be).
+    """
+    return angles[0] + w @ _wrap(angles - angles[0])
+
+
+def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
+    r"""Table 7.4, lines 2–9, with ``k`` features: the predicted sigma points and moments.
+
+    Returns :math:`\bar\chi^x` (2n+1, 3), :math:`\chi^z` (2n+1, 2k), the weights,
+    :math:`\bar\mu`, :math:`\bar\Sigma` and the pose residuals :math:`\bar\chi^x_i -
+    \bar\mu` (2n+1, 3, heading wrapped).
+    """
+    n = 5 + 2 * k
+    gamma, wm, wc = _weights_cached(n, *params)
+    M = _motion_noise(alpha, u)  # line 2, the diagonal of M_t
+    Q = np.tile(sigmas[:2] ** 2, k)  # line 3, the diagonals of k copies of Q_t
+    mu_a = np.concatenate([mu, np.zeros(2 + 2 * k)])  # line 4
+    # Line 5: Σ^a = diag(Σ, M_t, Q_t, ...), and its square root block by block (M_t is
+    # zero for a robot at rest, which a Cholesky of the whole matrix would reject; for a
+    # positive-definite Σ^a this is its Cholesky factor).
+    root = np.zeros((n, n))
+    root[:3, :3] = _sqrt_psd(Sigma)
+    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([M, Q])))
+    chi_a = np.concatenate([mu_a[None], mu_a + gamma * root.T, mu_a - gamma * root.T])  # line 6
+    chi_x, chi_u, chi_z = chi_a[:, :3], chi_a[:, 3:5], chi_a[:, 5:]
+    chi_x_bar = _velocity_motion_core(chi_x, u + chi_u, dt)  # line 7
+    _finite_or_raise("the predicted sigma points", chi_x_bar)
+    mu_bar = wm @ chi_x_bar  # line 8
+    mu_bar[2] = _circular_mean(wm, chi_x_bar[:, 2])
+    dx = chi_x_bar - mu_bar
+    dx[:, 2] = _wrap(dx[:, 2])
+    Sigma_bar = (wc[:, None] * dx).T @ dx  # line 9
+    Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
+    # A sum of outer products with weights >= 0 is positive semi-definite; only a negative
+    # w_0^(c) (a small ukf_alpha) can break it.
+    if wc[0] < 0 and not check.is_positive_semidefinite(Sigma_bar):
+        raise ValueError(
+            "the predicted covariance is not positive semi-definite (check ukf_alpha, beta, kappa)"
+        )
+    return chi_x_bar, chi_z, (wm, wc), mu_bar, Sigma_bar, dx
+
+
+def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
+    """Table 7.4 on validated input; returns μ_t, Σ_t and log p(z_t)."""
+    k = z.shape[0]
+    chi_x_bar, chi_z, (wm, wc), mu_bar, Sigma_bar, dx = _ukf_predict(
+        mu, Sigma, u, dt, alpha, sigmas, k, params
+    )  # lines 2-9
+    if k == 0:
+        mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
+        return mu_t, Sigma_t, 0.0
+    Z_bar = _landmark_measurement_core(chi_x_bar[:, None, :], m[c][None, :, :2])  # line 10
+    Z_bar += chi_z.reshape(-1, k, 2)  # (2n+1, k, 2)
+    z_hat = np.einsum("i,ikd->kd", wm, Z_bar)  # line 11
+    z_hat[:, 1] = _circular_mean(wm, Z_bar[:, :, 1])
+    dz = _innovation(Z_bar, z_hat).reshape(-1, 2 * k)
+    S = (wc[:, None] * dz).T @ dz  # line 12
+    S = 0.5 * (S + S.T)
+    Sigma_xz = (wc[:, None] * dx).T @ dz  # line 13
+    L = _cholesky(S)
+    K = Sigma_xz @ np.linalg.inv(S)  # line 14
+    nu = _innovation(z[:, :2], z_hat).reshape(2 * k)
+    mu_t = mu_bar + K @ nu  # line 15
+    Sigma_t = Sigma_bar - K @ S @ K.T  # line 16
+    log_p = float(_log_normal(nu, L)[1])  # line 17
+    mu_t, Sigma_t = _finish(mu_t, Sigma_t)
+    return mu_t, Sigma_t, log_p
 
 
 def ukf_localization(
@@ -808,7 +675,7 @@ def ukf_localization(
     kappa=0.0,
     log=False,
 ):
-    r"""Return :math:`\mu_t, \Sigma_t, p(z_t)` of one UKF localization step.
+    r"""Table 7.4, lines 1–18: return :math:`\mu_t, \Sigma_t, p(z_t)` of one UKF step.
 
     *Probabilistic Robotics*, Table 7.4, with the augmented state
     :math:`x^a = (x, \epsilon_u, \epsilon_z)` of dimension :math:`n = 5 + 2K` for
@@ -866,124 +733,48 @@ def ukf_localization(
     Raises
     ------
     ValueError
-        On bad input, a non-positive-definite ``Sigma``, predicted covariance or ``S``
-        (a very small ``ukf_alpha`` makes :math:`w_0^{(c)}` so negative that the
-        predicted covariance can lose definiteness).
+        On bad input (``ukf_alpha``, ``beta``, ``kappa`` as in :func:`ukf_weights`), a
+        non-positive-definite ``Sigma``, predicted covariance or ``S`` (a very small
+        ``ukf_alpha`` makes :math:`w_0^{(c)}` so negative that the predicted covariance
+        can lose definiteness), or an estimate that overflows float64.
     """
-    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
-    m = _landmark_map(m)
-    z = _features(z)
-    c = _correspondences(c, z.shape[0], m.shape[0])
-    dt = _dt(dt)
-    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 2)
+    args = _filter_arguments(mu, Sigma, u, z, m, dt, alpha, sigmas, (2, 3))
+    mu, Sigma, u, z, m, dt, alpha, sigmas = args
+    c = check.landmark_indices(c, "c", z.shape[0], m.shape[0])
+    log = check.flag(log, "log")
     params = _ukf_params(ukf_alpha, beta, kappa)
-    mu_t, Sigma_t, logp = _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params)
-    return mu_t, Sigma_t, (logp if log else math.exp(logp))
+    _weights_cached(5 + 2 * z.shape[0], *params)
+    mu_t, Sigma_t, log_p = _checked(
+        lambda: _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params),
+        "Table 7.4's step",
+        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+    )
+    return mu_t, Sigma_t, (log_p if log else math.exp(log_p))
 
 
-def _ukf_params(ukf_alpha, beta, kappa):
-    a = check.positive_scalar(ukf_alpha, "ukf_alpha")
-    beta = float(check.finite(beta, "beta"))
-    kappa = float(check.finite(kappa, "kappa"))
-    if 5 + kappa <= 0:
-        raise ValueError(f"kappa must satisfy n + kappa > 0 (n >= 5), got {kappa!r}")
-    return a, beta, kappa
-
-
-@functools.lru_cache(maxsize=64)
-def _weights_cached(n, a, beta, kappa):
-    gamma, wm, wc = ukf_weights(n, a, beta, kappa)
-    wm.setflags(write=False)
-    wc.setflags(write=False)
-    return gamma, wm, wc
-
-
-def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
-    """Table 7.4 on validated input; returns μ, Σ and log p(z)."""
+def _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold):
     k = z.shape[0]
-    n = 5 + 2 * k
-    gamma, wm, wc = _weights_cached(n, *params)
-
-    # Lines 2-6: augmented mean and the square root of the block-diagonal covariance
-    # (block by block: M_t is zero for a robot at rest, which a Cholesky of the whole
-    # matrix would reject; for a positive-definite Σ^a this is its Cholesky factor).
-    # The root is block-diagonal, so a sigma point along a measurement-noise axis has the
-    # pose and control of χ_0: only 1 + 2·5 distinct poses move (lines 7-9), evaluated on
-    # floats with the model code of probrob.motion (``_arc``); the 4K points along the
-    # measurement noise share χ_0's motion and weight, and are added to its weight.
-    R = _chol3(Sigma)
-    if R is None:
-        R = _sqrt_psd(Sigma).tolist()
-    x0, y0, th0 = mu.tolist()
-    v0, w0 = u.tolist()
-    dt = float(dt)  # a Python float: the scalar path of the model code
-    m0, m1 = _motion_noise(alpha, u).tolist()
-    wi = float(wm[1])
-    center = _arc(x0, y0, th0, v0, w0, dt)
-    moved = []
-    for sign in (gamma, -gamma):
-        for j in range(3):
-            moved.append(
-                _arc(x0 + sign * R[0][j], y0 + sign * R[1][j], th0 + sign * R[2][j], v0, w0, dt)
-            )
-        moved.append(_arc(x0, y0, th0, v0 + sign * math.sqrt(m0), w0, dt))
-        moved.append(_arc(x0, y0, th0, v0, w0 + sign * math.sqrt(m1), dt))
-    shared = 4 * k * wi  # the measurement-noise points: χ_0's motion
-    wm0, wc0 = float(wm[0]) + shared, float(wc[0]) + shared
-    cx, cy, cth = center
-    mx = wm0 * cx + wi * math.fsum(p[0] for p in moved)
-    my = wm0 * cy + wi * math.fsum(p[1] for p in moved)
-    # The heading mean on the circle: θ_0 + Σ_i w_i wrap(θ_i - θ_0) about the central point,
-    # the weighted mean of the headings unwrapped next to θ_0, right across ±π and with a
-    # negative w_0 (where a mean of unit vectors would not be).
-    mth = cth + wi * math.fsum(_wrap(p[2] - cth) for p in moved)
-    dx = np.empty((2 * n + 1, 3))
-    dx[:] = (cx - mx, cy - my, _wrap(cth - mth))
-    rows = np.array([(p[0] - mx, p[1] - my, _wrap(p[2] - mth)) for p in moved])
-    dx[1:6] = rows[:5]
-    dx[n + 1 : n + 6] = rows[5:]
-    d0 = dx[0]
-    Sigma_bar = wc0 * np.outer(d0, d0) + wi * (rows.T @ rows)
-    Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
-    mu_bar = np.array([mx, my, mth])
-    _psd(Sigma_bar, "the predicted covariance (check ukf_alpha, beta, kappa)")
     if k == 0:
-        mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)
-        return mu_t, Sigma_t, 0.0
-    xbar = np.empty((2 * n + 1, 3))
-    xbar[:] = center
-    xbar[1:6] = np.array(moved[:5])
-    xbar[n + 1 : n + 6] = np.array(moved[5:])
-    # The measurement-noise part of the sigma points: ±γ√(σ²) on axis 5 + j.
-    noise = np.zeros((2 * n + 1, 2 * k))
-    spread = gamma * np.sqrt(np.tile(sigmas[:2] ** 2, k))
-    idx = np.arange(2 * k)
-    noise[6 + idx, idx] = spread
-    noise[n + 6 + idx, idx] = -spread
-
-    # Lines 10-13: predicted measurements of every sigma point, stacked over features.
-    Z = _landmark_measurement_core(xbar[:, None, :], m[c][None, :, :2])  # (2n+1, K, 2)
-    Z += noise.reshape(2 * n + 1, k, 2)
-    zhat = np.einsum("i,ikd->kd", wm, Z)
-    ref = Z[0, :, 1]  # the bearing means on the circle (as the heading's), all features at once
-    zhat[:, 1] = ref + wm @ _wrap(Z[:, :, 1] - ref)
-    dz = _innovation(Z, zhat).reshape(2 * n + 1, 2 * k)
-    S = (wc[:, None] * dz).T @ dz
-    S = 0.5 * (S + S.T)
-    Pxz = (wc[:, None] * dx).T @ dz
-
-    # Lines 14-17.
-    nu = _innovation(z[:, :2], zhat).reshape(2 * k)
-    L = _cholesky(S, _S_NAME)
-    S_inv = np.linalg.inv(S)
-    K = Pxz @ S_inv
-    mu_t = mu_bar + K @ nu
-    Sigma_t = Sigma_bar - K @ S @ K.T
-    Sigma_t = 0.5 * (Sigma_t + Sigma_t.T)
-    logdet = 2.0 * float(np.sum(np.log(np.diagonal(L))))
-    logp = -0.5 * (float(nu @ S_inv @ nu) + logdet + 2 * k * _LOG_2PI)
-    mu_t, Sigma_t = _finish(mu_t, Sigma_t)
-    return mu_t, Sigma_t, logp
+        mu_t, Sigma_t, _ = _ukf(mu, Sigma, u, z, np.zeros(0, int), m, dt, alpha, sigmas, params)
+        return mu_t, Sigma_t, np.zeros(0, dtype=int)
+    # The one-feature Table 7.4 (n = 7), lines 2-12, for every landmark at once.
+    chi_x_bar, chi_z, (wm, wc), *_ = _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, 1, params)
+    Z_bar = _landmark_measurement_core(chi_x_bar[:, None, :], m[None, :, :2])  # (15, L, 2)
+    Z_bar += chi_z[:, None, :]
+    z_hat = np.einsum("i,ild->ld", wm, Z_bar)
+    z_hat[:, 1] = _circular_mean(wm, Z_bar[:, :, 1])
+    dz = _innovation(Z_bar, z_hat)
+    S = np.einsum("i,ila,ilb->lab", wc, dz, dz)  # (L, 2, 2)
+    L = _cholesky(S)
+    j = np.full(k, -1, dtype=int)
+    for i in range(k):
+        d2, log_p = _log_normal(_innovation(z[i, :2], z_hat), L)
+        best = int(np.argmax(log_p))
+        if threshold is None or d2[best] <= threshold:
+            j[i] = best
+    keep = j >= 0
+    mu_t, Sigma_t, _ = _ukf(mu, Sigma, u, z[keep], j[keep], m, dt, alpha, sigmas, params)
+    return mu_t, Sigma_t, j
 
 
 def ukf_localization_ml(
@@ -1001,7 +792,7 @@ def ukf_localization_ml(
     beta=2.0,
     kappa=0.0,
 ):
-    r"""Return :math:`\mu_t, \Sigma_t` and the maximum-likelihood landmark of each feature (UKF).
+    r"""Table 7.4 with the association of Table 7.3: :math:`\mu_t, \Sigma_t` and each feature's landmark.
 
     Not a table of the book: Table 7.4 with the association of Table 7.3. Every
     landmark :math:`k` is scored as if it were the only feature, with exactly the
@@ -1026,305 +817,18 @@ def ukf_localization_ml(
     Sigma : ndarray, shape (3, 3)
     c : ndarray of int, shape (K,)
     """
-    mu, Sigma, u = _pose(mu), _covariance(Sigma), _control(u)
-    m = _landmark_map(m)
-    z = _features(z)
-    dt = _dt(dt)
-    alpha, sigmas = _alpha4(alpha), _sigmas(sigmas, 2)
+    args = _filter_arguments(mu, Sigma, u, z, m, dt, alpha, sigmas, (2, 3))
+    mu, Sigma, u, z, m, dt, alpha, sigmas = args
     params = _ukf_params(ukf_alpha, beta, kappa)
     threshold = _gate_threshold(gate, 2)
-    return _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold)
-
-
-def _gate_threshold(gate, dof):
-    if gate is None:
-        return None
-    g = check.finite(gate, "gate")
-    if g.ndim != 0 or not 0.0 < float(g) < 1.0:
-        raise ValueError(f"gate must be None or a probability in (0, 1), got {gate!r}")
-    return chi2_quantile(float(g), dof)
-
-
-def _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold):
-    k = z.shape[0]
-    if k == 0:
-        mu_t, Sigma_t, _ = _ukf(
-            mu, Sigma, u, z, np.zeros(0, dtype=int), m, dt, alpha, sigmas, params
-        )
-        return mu_t, Sigma_t, np.zeros(0, dtype=int)
-    # One-feature Table 7.4 (n = 7) for every landmark at once.
-    n = 7
-    gamma, wm, wc = _weights_cached(n, *params)
-    root = np.zeros((n, n))
-    root[:3, :3] = _sqrt_psd(Sigma)
-    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([_motion_noise(alpha, u), sigmas[:2] ** 2])))
-    chi = np.zeros((2 * n + 1, n))
-    chi[:, :3] = mu
-    chi[1 : n + 1] += gamma * root.T
-    chi[n + 1 :] -= gamma * root.T
-    xbar = _velocity_motion_core(chi[:, :3], u + chi[:, 3:5], dt)
-    Z = _landmark_measurement_core(xbar[:, None, :], m[None, :, :2])  # (15, L, 2)
-    Z = Z + chi[:, None, 5:7]
-    zhat = np.einsum("i,ild->ld", wm, Z)
-    ref = Z[0, :, 1]
-    zhat[:, 1] = ref + wm @ _wrap(Z[:, :, 1] - ref)
-    dz = _innovation(Z, zhat)  # (15, L, 2)
-    S = np.einsum("i,ila,ilb->lab", wc, dz, dz)
-    chosen = np.full(k, -1, dtype=int)
-    for i in range(k):
-        nu = _innovation(z[i, :2], zhat)
-        d2, logp = _gaussian_terms(nu, S)
-        j = int(np.argmax(logp))
-        if threshold is None or d2[j] <= threshold:
-            chosen[i] = j
-    keep = chosen >= 0
-    mu_t, Sigma_t, _ = _ukf(mu, Sigma, u, z[keep], chosen[keep], m, dt, alpha, sigmas, params)
-    return mu_t, Sigma_t, chosen
-
-
-# --------------------------------------------------------------------------- evaluation
-
-
-def fit_measurement_noise(z, c, poses, m):
-    r"""Return the bias and standard deviation of range and bearing, fitted to true poses.
-
-    The residuals :math:`r - \hat r` and :math:`\mathrm{wrap}(\phi - \hat\phi)` of
-    measurements ``z`` of landmarks ``c`` taken at known poses, with :math:`(\hat r,
-    \hat\phi) = h(x, m_c)` (the measurement function of Table 6.4), and their Gaussian
-    maximum-likelihood fit: the mean (bias) and the standard deviation (``ddof=0``). Also
-    returns the robust standard deviation :math:`1.4826\cdot\mathrm{MAD}`, which
-    describes the core of a heavy-tailed residual distribution.
-
-    Parameters
-    ----------
-    z : array_like, shape (K, 2) or (K, 3)
-        Measurements :math:`(r, \phi[, s])`.
-    c : array_like of int, shape (K,)
-        Landmark rows.
-    poses : array_like, shape (K, 3)
-        True poses at the measurement times (e.g. motion capture).
-    m : array_like, shape (L, 3)
-
-    Returns
-    -------
-    bias : ndarray, shape (2,)
-        Mean residual of range [m] and bearing [rad].
-    sigma : ndarray, shape (2,)
-        Their standard deviations (Gaussian ML fit).
-    robust_sigma : ndarray, shape (2,)
-        1.4826 × the median absolute deviation from the median.
-    """
-    m = _landmark_map(m)
-    z = _features(z)
-    c = _correspondences(c, z.shape[0], m.shape[0])
-    poses = check.poses(poses, "poses")
-    if poses.shape != (z.shape[0], 3):
-        raise ValueError(f"poses must have shape ({z.shape[0]}, 3), got {poses.shape}")
-    if z.shape[0] < 2:
-        raise ValueError("z: at least two measurements are needed to fit a noise")
-    res = _innovation(z[:, :2], _landmark_measurement_core(poses, m[c, :2]))
-    bias = res.mean(axis=0)
-    sigma = res.std(axis=0)
-    med = np.median(res, axis=0)
-    robust = 1.4826 * np.median(np.abs(res - med), axis=0)
-    return bias, sigma, robust
-
-
-@dataclass(frozen=True)
-class MotionNoiseFit:
-    r"""Result of :func:`fit_motion_noise`.
-
-    Attributes
-    ----------
-    alpha : ndarray, shape (4,)
-        Fitted :math:`\alpha_1 \ldots \alpha_4`.
-    windows : int
-        Number of windows.
-    errors : ndarray, shape (windows, 3)
-        Each window's end-pose error in the robot frame: along the direction of travel,
-        across it (left), and in heading.
-    nees : ndarray, shape (windows,)
-        :math:`e^T \bar\Sigma^{-1} e` of each window's end pose under the fitted
-        :math:`\alpha` (windows without motion left out: NaN).
-    """
-
-    alpha: np.ndarray
-    windows: int
-    errors: np.ndarray
-    nees: np.ndarray
-
-
-def _nonnegative_lstsq(X: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Least squares ``X a ≈ y`` with ``a >= 0`` for two columns (exact active-set)."""
-    best, best_cost = np.zeros(2), float(y @ y)
-    candidates = [np.linalg.lstsq(X, y, rcond=None)[0]]
-    for j in range(2):
-        col = X[:, j]
-        den = float(col @ col)
-        a = np.zeros(2)
-        if den > 0:
-            a[j] = float(col @ y) / den
-        candidates.append(a)
-    for a in candidates:
-        if np.all(a >= 0):
-            cost = float(np.sum((X @ a - y) ** 2))
-            if cost < best_cost:
-                best, best_cost = a, cost
-    return best
-
-
-def fit_motion_noise(u, dt, poses, *, window):
-    r"""Fit :math:`\alpha_1 \ldots \alpha_4` of the EKF's motion noise to a true trajectory.
-
-    The steps are cut into consecutive windows of about ``window`` seconds. In each
-    window the noise-free motion :math:`g` (Table 7.2, line 6) runs from the true pose
-    over the window's commands; the error :math:`e_w` between the true end pose and that
-    prediction is split into its component along the direction of travel, across it,
-    and in heading. In the model of Table 7.2 the heading error is exactly
-    :math:`\sum_k \Delta t_k\, \delta\omega_k` and the along-track error is, to first
-    order, :math:`\sum_k \Delta t_k\, \delta v_k`, so (method of moments)
-
-    .. math::
-        E[e_{w,\parallel}^2] = \alpha_1 \sum_k \Delta t_k^2 v_k^2 + \alpha_2 \sum_k \Delta t_k^2 \omega_k^2,
-        \qquad
-        E[e_{w,\theta}^2] = \alpha_3 \sum_k \Delta t_k^2 v_k^2 + \alpha_4 \sum_k \Delta t_k^2 \omega_k^2,
-
-    two linear regressions of the squared errors on the windows' sums, solved by
-    non-negative least squares. The cross-track error is not used: the model has no
-    noise term that moves the robot sideways (only a heading error does, slowly), so
-    what the data show there is reported (``errors[:, 1]``) rather than fitted.
-
-    The book's model draws independent noise at every step, so the fitted values
-    depend on the step length and on ``window``: fit at the horizon the filter
-    predicts over between measurements.
-
-    Parameters
-    ----------
-    u : array_like, shape (N, 2)
-        Commands of the steps.
-    dt : array_like, shape (N,)
-        Step lengths, > 0.
-    poses : array_like, shape (N + 1, 3)
-        True poses at the step boundaries (the start of step 0, then each step's end).
-    window : float
-        Window length, s.
-
-    Returns
-    -------
-    MotionNoiseFit
-    """
-    u = check.vectors(u, "u", 2, "v, omega")
-    if u.ndim != 2:
-        raise ValueError(f"u must have shape (N, 2), got {u.shape}")
-    n = u.shape[0]
-    dt = _step_lengths(dt, n)
-    poses = check.poses(poses, "poses")
-    if poses.shape != (n + 1, 3):
-        raise ValueError(f"poses must have shape ({n + 1}, 3), got {poses.shape}")
-    window = check.positive_scalar(window, "window")
-    begins = np.concatenate([[0.0], np.cumsum(dt[:-1])])
-    # A step belongs to the window its start falls in (tolerant of summed rounding).
-    label = np.floor(begins / window + 1e-9).astype(int)
-    cuts = np.concatenate([[0], np.flatnonzero(np.diff(label)) + 1, [n]])
-    zero3 = np.zeros((3, 3))
-    errors, design, starts = [], [], []
-    for a, b in itertools.pairwise(cuts.tolist()):
-        mus, _ = _predict_segment(poses[a], zero3, u[a:b], dt[a:b], np.zeros(4))
-        e = _innovation_pose(poses[b], mus[-1])
-        move = mus[-1, :2] - poses[a, :2]
-        heading = math.atan2(move[1], move[0]) if np.hypot(*move) > 0 else float(poses[a, 2])
-        c, s_ = math.cos(heading), math.sin(heading)
-        errors.append([c * e[0] + s_ * e[1], -s_ * e[0] + c * e[1], e[2]])
-        w2 = dt[a:b] ** 2
-        design.append([w2 @ u[a:b, 0] ** 2, w2 @ u[a:b, 1] ** 2])
-        starts.append((a, b))
-    errors = np.array(errors)
-    X = np.array(design)
-    if np.count_nonzero(np.any(X > 0, axis=1)) < 2:
-        raise ValueError("fewer than two windows with motion: cannot fit the noise")
-    alpha = np.concatenate(
-        [_nonnegative_lstsq(X, errors[:, 0] ** 2), _nonnegative_lstsq(X, errors[:, 2] ** 2)]
+    return _checked(
+        lambda: _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold),
+        "Table 7.4's step",
+        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
-    nees_w = np.full(len(errors), np.nan)
-    for w, (a, b) in enumerate(starts):
-        mus, Sig = _predict_segment(poses[a], zero3, u[a:b], dt[a:b], alpha)
-        eig = np.linalg.eigvalsh(Sig[-1])
-        if eig[0] > 1e-9 * eig[-1]:
-            e = _innovation_pose(poses[b], mus[-1])
-            nees_w[w] = float(e @ np.linalg.solve(Sig[-1], e))
-    return MotionNoiseFit(alpha=alpha, windows=len(errors), errors=errors, nees=nees_w)
 
 
-def covariance_ellipse(mu, Sigma, p=0.95, n=60):
-    r"""Return ``n`` points on the ``p``-probability ellipse of the position of ``(mu, Sigma)``.
-
-    The boundary of :math:`\{x : (x - \mu_{xy})^T \Sigma_{xy}^{-1} (x - \mu_{xy}) \le
-    \chi^2_2(p)\}` for the 2×2 position block :math:`\Sigma_{xy}`: the region that
-    holds the true position with probability ``p`` if the estimate is right.
-
-    Parameters
-    ----------
-    mu : array_like, shape (3,) or (2,)
-    Sigma : array_like, shape (3, 3) or (2, 2)
-        Positive semi-definite.
-    p : float
-        Probability in (0, 1).
-    n : int
-        Number of points (the first is repeated at the end: ``n + 1`` rows).
-
-    Returns
-    -------
-    xy : ndarray, shape (n + 1, 2)
-    """
-    mu = check.finite(mu, "mu")
-    if mu.shape not in ((2,), (3,)):
-        raise ValueError(f"mu must have shape (3,) or (2,), got {mu.shape}")
-    mu = mu[:2]
-    S = check.finite(Sigma, "Sigma")
-    if S.ndim != 2 or S.shape[0] != S.shape[1] or S.shape[0] not in (2, 3):
-        raise ValueError(f"Sigma must have shape (3, 3) or (2, 2), got {S.shape}")
-    S = S[:2, :2]
-    w, U = np.linalg.eigh(0.5 * (S + S.T))
-    if w[0] < -1e-12 * max(1.0, w[-1]):
-        raise ValueError("Sigma is not positive semi-definite")
-    radius = math.sqrt(chi2_quantile(p, 2))
-    t = np.linspace(0.0, 2.0 * np.pi, check.count(n, "n", 1) + 1)
-    circle = np.stack([np.cos(t), np.sin(t)], axis=-1)
-    return mu + radius * (circle * np.sqrt(np.clip(w, 0.0, None))) @ U.T
-
-
-def nees(x_true, mu, Sigma):
-    r"""Return the normalised estimation error squared :math:`e^T \Sigma^{-1} e`.
-
-    :math:`e = x - \mu` with the heading error wrapped. For a consistent filter it is
-    :math:`\chi^2_3`-distributed: mean 3 (Bar-Shalom, Li & Kirubarajan, *Estimation
-    with Applications to Tracking and Navigation*, §5.4).
-
-    Parameters
-    ----------
-    x_true, mu : array_like, shape (..., 3)
-        True poses and estimates.
-    Sigma : array_like, shape (..., 3, 3)
-        Estimate covariances (positive definite).
-
-    Returns
-    -------
-    nees : float or ndarray, shape (...)
-    """
-    x_true = check.poses(x_true, "x_true")
-    mu = check.poses(mu, "mu")
-    Sigma = check.finite(Sigma, "Sigma")
-    if Sigma.ndim < 2 or Sigma.shape[-2:] != (3, 3):
-        raise ValueError(f"Sigma must have shape (..., 3, 3), got {Sigma.shape}")
-    e = _innovation_pose(x_true, mu)
-    d2, _ = _gaussian_terms(e, Sigma, "Sigma")
-    return check.scalar_or_array(d2)
-
-
-def _innovation_pose(x_true, mu):
-    e = np.subtract(x_true, mu)
-    e[..., 2] = _wrap(e[..., 2])
-    return e
+# --------------------------------------------------------------------------- runs
 
 
 @dataclass(frozen=True)
@@ -1353,6 +857,39 @@ class FilterRun:
 _METHODS = ("ekf", "ekf_ml", "ukf", "ukf_ml")
 
 
+def _read_steps(steps, m, signatures, known):
+    """The steps' times, lengths, controls, features and correspondences, checked."""
+    if not (hasattr(steps, "__len__") and hasattr(steps, "__iter__")):
+        raise ValueError(f"steps must be a sequence of steps, got {check._short(steps)}")
+    T = len(steps)
+    t, dts, us = np.empty(T), np.empty(T), np.empty((T, 2))
+    zs, cs = [], []
+    no_z = np.zeros((0, 3 if signatures else 2))
+    no_c = np.zeros(0, dtype=int)
+    for i, step in enumerate(steps):
+        t[i], dts[i], us[i] = step.t, step.dt, step.u
+        if len(step.z) == 0:  # most steps of a real run: nothing to check
+            zs.append(no_z)
+            cs.append(no_c)
+            continue
+        z = check.features(step.z, f"steps[{i}].z")
+        zs.append(z if signatures else z[:, :2])
+        cs.append(
+            check.landmark_indices(step.c, f"steps[{i}].c", z.shape[0], m.shape[0])
+            if known
+            else None
+        )
+    for name, values in (("u", us), ("dt", dts)):
+        bad = np.flatnonzero(~np.all(np.isfinite(values.reshape(T, -1)), axis=1))
+        if bad.size:
+            i = int(bad[0])
+            raise ValueError(f"steps[{i}].{name} must be finite, got {values[i]!r}")
+    if np.any(dts <= 0):
+        i = int(np.flatnonzero(dts <= 0)[0])
+        raise ValueError(f"steps[{i}].dt must be > 0, got {dts[i]!r}")
+    return t, dts, us, zs, cs
+
+
 def run_filter(
     steps: Sequence,
     mu0,
@@ -1368,7 +905,7 @@ def run_filter(
     beta=2.0,
     kappa=0.0,
 ):
-    r"""Run a filter over ``steps`` and return a :class:`FilterRun`.
+    r"""Tables 7.2–7.4 along a run: return the :class:`FilterRun` of one filter over ``steps``.
 
     Parameters
     ----------
@@ -1391,84 +928,75 @@ def run_filter(
         The χ² gate of :func:`ekf_localization` (``"ekf_ml"`` and ``"ukf_ml"`` only).
     ukf_alpha, beta, kappa : float
         The UKF's parameters (``"ukf"`` and ``"ukf_ml"``).
+
+    Returns
+    -------
+    FilterRun
+
+    Raises
+    ------
+    ValueError
+        On bad input (a step's ``u`` or ``dt`` named by its index), or an estimate that
+        overflows float64 (naming the step's most extreme value).
     """
     check.choice(method, "method", _METHODS)
-    mu, Sigma = _pose(mu0, "mu0"), _covariance(Sigma0, "Sigma0")
+    mu = check.single_pose(mu0, "mu0")
+    Sigma = Sigma0 = check.covariance(Sigma0, "Sigma0")
     signatures = check.flag(signatures, "signatures")
-    if not (hasattr(steps, "__len__") and hasattr(steps, "__iter__")):
-        raise ValueError(f"steps must be a sequence of steps, got {check._short(steps)}")
-    m = _landmark_map(m)
-    alpha = _alpha4(alpha)
-    sigmas = _sigmas(sigmas, 3 if method.startswith("ekf") else 2)
+    m = check.landmark_map(m, "m")
+    alpha = check.alphas(alpha, "alpha", 4)
+    sigmas = check.sigmas(sigmas, "sigmas", (3,) if method[0] == "e" else (2, 3), positive=True)
     if gate is not None and method not in ("ekf_ml", "ukf_ml"):
         raise ValueError("gate applies to method='ekf_ml' or 'ukf_ml' only")
     threshold = _gate_threshold(gate, 3 if signatures and method == "ekf_ml" else 2)
     params = _ukf_params(ukf_alpha, beta, kappa)
+    t, dts, us, zs, cs_given = _read_steps(steps, m, signatures, method in ("ekf", "ukf"))
 
-    T = len(steps)
-    t = np.empty(T)
-    dts = np.empty(T)
-    us = np.empty((T, 2))
-    zs, cs_true = [], []
-    known = method in ("ekf", "ukf")
-    no_z = np.zeros((0, 3 if signatures else 2))
-    no_c = np.zeros(0, dtype=int)
-    for i, step in enumerate(steps):
-        t[i] = step.t
-        dts[i] = step.dt
-        us[i] = step.u
-        if len(step.z) == 0:  # most steps of a real run: nothing to check
-            zs.append(no_z)
-            cs_true.append(no_c)
-            continue
-        z = _features(step.z)
-        if not signatures:
-            z = z[:, :2]
-        zs.append(z)
-        cs_true.append(_correspondences(step.c, z.shape[0], m.shape[0]) if known else None)
-    if not np.all(np.isfinite(us)):
-        raise ValueError("steps: every u must be finite")
-    if not np.all(dts > 0):
-        raise ValueError("steps: every dt must be > 0")
-
-    mus = np.empty((T, 3))
-    Sigmas = np.empty((T, 3, 3))
+    T = len(t)
+    mus, Sigmas = np.empty((T, 3)), np.empty((T, 3, 3))
     cs = [None] * T
     log_pz = np.full(T, np.nan)
     i = 0
     while i < T:
-        if method.startswith("ekf") and zs[i].shape[0] == 0:
+        if method[0] == "e" and zs[i].shape[0] == 0:
             # A stretch without features: the exact vectorised composition of predictions.
             j = i
             while j < T and zs[j].shape[0] == 0:
                 j += 1
-            seg_mu, seg_Sigma = _predict_segment(mu, Sigma, us[i:j], dts[i:j], alpha)
+            step = functools.partial(_predict_segment, mu, Sigma, us[i:j], dts[i:j], alpha)
+            seg_mu, seg_Sigma = _run_step(step, slice(i, j), us, dts, Sigma0=Sigma0, alpha=alpha)
             seg_mu[:, 2] = _wrap(seg_mu[:, 2])
             mus[i:j], Sigmas[i:j] = seg_mu, seg_Sigma
-            for k in range(i, j):
-                cs[k] = np.zeros(0, dtype=int)
+            cs[i:j] = [np.zeros(0, dtype=int) for _ in range(i, j)]
             log_pz[i:j] = 0.0 if method == "ekf" else np.nan
             mu, Sigma = seg_mu[-1], seg_Sigma[-1]
             i = j
             continue
+        args = (mu, Sigma, us[i], zs[i])
         if method == "ekf":
-            mu, Sigma, log_pz[i] = _ekf_known(
-                mu, Sigma, us[i], zs[i], cs_true[i], m, dts[i], alpha, sigmas
-            )
-            cs[i] = cs_true[i]
+            step = functools.partial(_ekf_known, *args, cs_given[i], m, dts[i], alpha, sigmas)
         elif method == "ekf_ml":
-            mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, us[i], dts[i], alpha)
-            mu, Sigma, cs[i] = _ekf_ml_correct(mu_bar, Sigma_bar, zs[i], m, sigmas, threshold)
-        elif method == "ukf_ml":
-            mu, Sigma, cs[i] = _ukf_ml(
-                mu, Sigma, us[i], zs[i], m, dts[i], alpha, sigmas, params, threshold
-            )
+            step = functools.partial(_ekf_ml, *args, m, dts[i], alpha, sigmas, threshold)
+        elif method == "ukf":
+            step = functools.partial(_ukf, *args, cs_given[i], m, dts[i], alpha, sigmas, params)
         else:
-            mu, Sigma, log_pz[i] = _ukf(
-                mu, Sigma, us[i], zs[i], cs_true[i], m, dts[i], alpha, sigmas, params
-            )
-            cs[i] = cs_true[i]
-        mus[i] = mu
-        Sigmas[i] = Sigma
+            step = functools.partial(_ukf_ml, *args, m, dts[i], alpha, sigmas, params, threshold)
+        mu, Sigma, out = _run_step(step, i, us, dts, Sigma0=Sigma0, alpha=alpha, sigmas=sigmas)
+        if method in ("ekf", "ukf"):
+            log_pz[i], cs[i] = out, cs_given[i]
+        else:
+            cs[i] = out
+        mus[i], Sigmas[i] = mu, Sigma
         i += 1
     return FilterRun(t=t, mu=mus, Sigma=Sigmas, c=cs, log_pz=log_pz)
+
+
+def _run_step(core, index, us, dts, **arguments):
+    """One step (or stretch) of :func:`run_filter`; an overflow is blamed on its own values.
+
+    ``index`` is the step's index or the stretch's slice; ``arguments`` the other arguments
+    of :func:`run_filter` the step was computed from.
+    """
+    label = index if isinstance(index, int) else f"{index.start}:{index.stop}"
+    named = {f"steps[{label}].u": us[index], f"steps[{label}].dt": dts[index], **arguments}
+    return _checked(core, f"step {label}", named)

@@ -1,5 +1,8 @@
 r"""Occupancy grids, their distance field, and ray casting (*Probabilistic Robotics*, ch. 6).
 
+Holds occupancy grids, their distance field and ray casting.
+Does not hold the range-finder models that use them (:mod:`probrob.sensors`).
+
 * :class:`OccupancyGrid` — a boolean grid of occupied cells with a metric resolution
   and origin, built from an array or from laser scans at known poses
   (:meth:`OccupancyGrid.from_scans`), with world ↔ cell conversions and the metric
@@ -8,7 +11,7 @@ r"""Occupancy grids, their distance field, and ray casting (*Probabilistic Robot
   vectorised over poses × beams: the distance from the sensor to the boundary of the
   first occupied cell the beam enters, or ``max_range``.
 
-Conventions (DESIGN.md): ``occupied[i, j]`` is row ``i`` (y) and column ``j`` (x);
+Conventions (the book's *conventions* page): ``occupied[i, j]`` is row ``i`` (y) and column ``j`` (x);
 cell ``(i, j)`` covers :math:`x \in [o_x + j r, o_x + (j+1) r)`,
 :math:`y \in [o_y + i r, o_y + (i+1) r)`. Space outside the grid is free: a beam that
 leaves the grid returns ``max_range``.

@@ -1,12 +1,15 @@
 r"""Probabilistic motion models of *Probabilistic Robotics*, chapter 5.
 
+Holds the motion models of Tables 5.1–5.6 and :math:`g, G, V` of Table 7.2, lines 3–6.
+Does not hold the filters (:mod:`probrob.localization`) or wheel kinematics (:mod:`probrob.kinematics`).
+
 * :func:`motion_model_velocity` — Table 5.1, the density :math:`p(x_t \mid u_t, x_{t-1})`
   of the velocity motion model;
 * :func:`sample_motion_model_velocity` — Table 5.3, its sampler;
 * :func:`motion_model_odometry` — Table 5.5, the odometry motion model's density;
 * :func:`sample_motion_model_odometry` — Table 5.6, its sampler;
 * :func:`velocity_motion` — the noise-free motion :math:`g(u_t, x_{t-1})` (Table 7.2,
-  line 5), exact for :math:`\omega = 0`, and :func:`velocity_motion_jacobians`, its
+  line 6), exact for :math:`\omega = 0`, and :func:`velocity_motion_jacobians`, its
   Jacobians :math:`G` and :math:`V` (Table 7.2, lines 3–4);
 * :func:`odometry_deltas` — :math:`(\delta_{rot1}, \delta_{trans}, \delta_{rot2})` of two
   poses (Table 5.5, lines 2–4, with wrapped angles).
@@ -202,7 +205,7 @@ def velocity_motion(x_prev, u_t, dt):
     r"""Return the noise-free pose after moving with velocities ``u_t`` for ``dt``.
 
     The function :math:`g(u_t, x_{t-1})` of *Probabilistic Robotics*, Table 7.2,
-    line 5 (and Table 5.3, lines 5–7 without noise):
+    line 6 (and Table 5.3, lines 5–7 without noise):
 
     .. math::
         \begin{pmatrix} x' \\ y' \\ \theta' \end{pmatrix} =

@@ -1,5 +1,8 @@
 r"""Figures for the book: every function takes ``ax=None`` and returns the ``Axes``.
 
+Holds the book's figures and its one figure style; each function draws on ``ax`` and returns it.
+Does not hold models (it calls them) or sliders and players (:mod:`probrob.widgets`).
+
 Plotting is kept apart from the maths: these functions call the models of
 :mod:`probrob.motion` and :mod:`probrob.distributions` and draw what they return.
 They never show a figure themselves (the caller or Jupyter does); matplotlib is imported

@@ -1,12 +1,15 @@
 r"""Measurement models of *Probabilistic Robotics*, chapter 6 (Tables 6.1–6.5).
 
+Holds the measurement models of Tables 6.1–6.5 and :math:`h, H` of Table 7.2, lines 11–13.
+Does not hold maps or ray casting (:mod:`probrob.maps`) or the filters (:mod:`probrob.localization`).
+
 Landmark models (Tables 6.4, 6.5; deck ``001`` "Modelo Landmark", "Modelo Sample Landmark"):
 
 * :func:`landmark_measurement` — the noise-free range–bearing–signature measurement
   :math:`h(x, m_j) = (\hat r, \hat\phi, s_j)` of a landmark seen from a pose; the EKF and the
   UKF of chapter 7 use it as their measurement function, so it exists once, here;
 * :func:`landmark_measurement_jacobian` — :math:`H = \partial h / \partial x` (Table 7.2,
-  line 14);
+  line 13);
 * :func:`landmark_model_known_correspondence` — :math:`p(f \mid c, x, m)`, Table 6.4;
 * :func:`sample_landmark_model_known_correspondence` — poses drawn from one feature,
   Table 6.5.
@@ -87,17 +90,6 @@ def _landmark_rows(m, name: str = "m") -> np.ndarray:
     return arr
 
 
-def _sigmas(sigmas, count: int = 3) -> np.ndarray:
-    arr = check.finite(sigmas, "sigmas")
-    if arr.shape != (count,):
-        raise ValueError(
-            f"sigmas must hold {count} standard deviations (σ_r, σ_φ, σ_s), got shape {arr.shape}"
-        )
-    if np.any(arr < 0):
-        raise ValueError(f"sigmas are standard deviations and must be >= 0, got {arr.tolist()}")
-    return arr
-
-
 def _map(m) -> np.ndarray:
     arr = _landmark_rows(m)
     if arr.ndim != 2 or arr.shape[0] == 0:
@@ -146,7 +138,7 @@ def _range_bearing(dx, dy, th):
 
 
 def _jacobian_entries(dx, dy):
-    r"""The entries :math:`H_{11}, H_{12}, H_{21}, H_{22}` of Table 7.2, line 14.
+    r"""The entries :math:`H_{11}, H_{12}, H_{21}, H_{22}` of Table 7.2, line 13.
 
     ``dx, dy`` the landmark minus the pose (floats or arrays, unchecked). Raises
     ``ValueError`` where the pose coincides with its landmark (:math:`q = 0`).
@@ -184,7 +176,7 @@ def _landmark_jacobian_core(x: np.ndarray, m: np.ndarray, batch=None) -> np.ndar
 def landmark_measurement(x, m):
     r"""Return the noise-free measurement :math:`h(x, m_j)` of landmark(s) ``m`` from pose(s) ``x``.
 
-    *Probabilistic Robotics*, Table 6.4, lines 3–4 (and :math:`\hat z` of Table 7.2, line 13):
+    *Probabilistic Robotics*, Table 6.4, lines 3–4 (and :math:`\hat z` of Table 7.2, line 12):
 
     .. math::
         \hat r = \sqrt{(m_{j,x} - x)^2 + (m_{j,y} - y)^2}, \qquad
@@ -216,7 +208,7 @@ def landmark_measurement(x, m):
 def landmark_measurement_jacobian(x, m):
     r"""Return :math:`H = \partial h(x, m_j) / \partial x`, the Jacobian of :func:`landmark_measurement`.
 
-    *Probabilistic Robotics*, Table 7.2, line 14, with :math:`q = (m_{j,x}-x)^2 +
+    *Probabilistic Robotics*, Table 7.2, line 13, with :math:`q = (m_{j,x}-x)^2 +
     (m_{j,y}-y)^2`:
 
     .. math::
@@ -267,7 +259,7 @@ def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
     belongs (errata L1), omits :math:`-\theta` in :math:`\hat\phi` (L2), and does not wrap
     :math:`\phi - \hat\phi` (L3).
 
-    A zero standard deviation makes its factor a point mass (DESIGN.md): the likelihood is
+    A zero standard deviation makes its factor a point mass (as in :mod:`probrob.distributions`): the likelihood is
     0 (``-inf`` with ``log=True``) where that component differs, ``inf`` where it matches
     exactly.
 
@@ -298,7 +290,7 @@ def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
     if m.shape[-1] != 3:
         raise ValueError(f"m must have shape (L, 3) (x, y, s) for signatures, got {m.shape}")
     c = _correspondences(c, m.shape[0])
-    sig2 = np.square(_sigmas(sigmas))
+    sig2 = np.square(check.sigmas(sigmas, "sigmas", (3,), positive=False))
     check.batch_shape(f=f.shape[:-1], c=c.shape, x=x.shape[:-1])
     z_hat = _landmark_measurement_core(x, m[c])
     errors = (
@@ -374,10 +366,7 @@ def sample_landmark_model_known_correspondence(
         raise ValueError(f"f must have shape (..., 3) (r, phi, s) or (..., 2), got {f.shape}")
     m = _map(m)
     c = _correspondences(c, m.shape[0])
-    sig = check.finite(sigmas, "sigmas")
-    if sig.shape not in ((2,), (3,)):
-        raise ValueError(f"sigmas must hold (σ_r, σ_φ) or (σ_r, σ_φ, σ_s), got shape {sig.shape}")
-    _sigmas(sig, sig.shape[0])
+    sig = check.sigmas(sigmas, "sigmas", (2, 3), positive=False)
     check.callable_arg(sample, "sample")
     shape = check.output_shape(check.batch_shape(f=f.shape[:-1], c=c.shape), size)
     rng = check.rng(rng)

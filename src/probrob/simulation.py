@@ -1,5 +1,8 @@
 r"""Simulated landmark worlds for the localization chapters.
 
+Holds simulated landmark maps, control sequences and runs (true path, odometry, features).
+Does not hold the filters (:mod:`probrob.localization`) or real recordings (:mod:`probrob.datasets`).
+
 * :func:`grid_landmarks`, :func:`random_landmarks` — maps of landmarks with signatures,
   rows :math:`(x, y, s)`;
 * :func:`loop_controls` — a commanded velocity sequence that drives a closed loop;

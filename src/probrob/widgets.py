@@ -1,5 +1,8 @@
 r"""Sliders for Jupyter and kernel-free players for the static book.
 
+Holds the Jupyter sliders and the kernel-free players of the chapters.
+Does not hold the models or figures they show (:mod:`probrob.motion`, :mod:`probrob.plotting`).
+
 * :func:`velocity_model_explorer`, :func:`odometry_model_explorer` — live
   ``ipywidgets`` sliders for every :math:`\alpha`, the motion, the noise distribution
   and the noise form. They need a running kernel: in the HTML book they do nothing,

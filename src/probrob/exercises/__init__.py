@@ -1,5 +1,8 @@
 r"""Checks for the chapters' exercises: print "correct" or what is still wrong, never raise.
 
+Holds :func:`check` and :func:`verdict`; each chapter's checks are a module of this package.
+Does not hold any answer: a check computes the truth with the library.
+
 The book's exercise pattern (every chapter copies it):
 
 1. the task, in prose (a markdown cell);

@@ -1,5 +1,8 @@
 r"""Checks for the exercises of the CIR chapter (the Italian report on the CIR state function).
 
+Holds the checks of the CIR chapter's exercises.
+Does not hold the answers or the models (each check computes the truth with :mod:`probrob.kinematics`).
+
 Each ``exercise_N(answer)`` computes the truth with :mod:`probrob.kinematics` and returns
 ``None`` when the answer is right, or a short message saying what is wrong (never the right
 value). The chapter's check cells call them through :func:`probrob.exercises.check`::

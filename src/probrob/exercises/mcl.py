@@ -1,5 +1,9 @@
 """The checks of the Monte Carlo localization chapter's exercises (each computes the truth
-with the library and returns ``None`` when the answer is right, else what is wrong)."""
+with the library and returns ``None`` when the answer is right, else what is wrong).
+
+Holds the checks of the Monte Carlo localization chapter's exercises.
+Does not hold the answers or the filters (each check computes the truth with :mod:`probrob.mcl`).
+"""
 
 from __future__ import annotations
 

@@ -1,5 +1,8 @@
 r"""Checks for the exercises of the MRCLAM chapter (``notebooks/mrclam_motion_noise.ipynb``).
 
+Holds the checks of the MRCLAM chapter's exercises.
+Does not hold the answers or the fits (each check computes the truth with :mod:`probrob.fitting`).
+
 Each ``exercise_N(answer, ...)`` computes the truth with the library from the inputs the
 chapter passes (the fitted :math:`\alpha`, the windows), returns ``None`` when the answer
 is right and a short message of what is wrong otherwise, and never the right value. Use

@@ -1,5 +1,8 @@
 r"""Checks for the exercises of the Trabalho 3 chapter (velocity and odometry motion models).
 
+Holds the checks of the Trabalho 3 chapter's exercises.
+Does not hold the answers or the models (each check computes the truth with :mod:`probrob.motion`).
+
 Each ``exercise_N(answer)`` computes the truth with :mod:`probrob` (the densities and
 samplers of Tables 5.1–5.6) and returns ``None`` when the answer is right, or a short
 message saying what is wrong (never the right value). The chapter's check cells call them

@@ -1,5 +1,8 @@
 r"""Checks of the exercises of the chapter "Trabalho 5 — EKF and UKF localization".
 
+Holds the checks of the Trabalho 5 chapter's exercises.
+Does not hold the answers or the filters (each check computes the truth with :mod:`probrob.localization`).
+
 Each ``exercise_N(answer)`` computes the truth with the library and returns ``None`` when
 ``answer`` is right, else a short message of what is wrong (never the right value); the
 chapter passes it to :func:`probrob.exercises.check` as ``test``.
@@ -16,11 +19,8 @@ import numpy as np
 from scipy.stats import norm
 
 from probrob.angles import wrap_angle
-from probrob.localization import (
-    chi2_quantile,
-    ekf_localization_known_correspondences,
-    ukf_weights,
-)
+from probrob.evaluation import chi2_quantile
+from probrob.localization import ekf_localization_known_correspondences, ukf_weights
 from probrob.motion import velocity_motion_jacobians
 from probrob.sensors import landmark_measurement, landmark_measurement_jacobian
 

@@ -1,5 +1,8 @@
 r"""Checks for the exercises of the Turkish lecture's chapter (motion models, wheel kinematics).
 
+Holds the checks of the Turkish lecture chapter's exercises.
+Does not hold the answers or the models (each check computes the truth with the library).
+
 Each ``exercise_N(answer)`` computes the truth with the library and returns ``None`` when the
 answer is right, otherwise a short message saying what is wrong (never the right value). Use
 them through :func:`probrob.exercises.check`:

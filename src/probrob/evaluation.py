@@ -1,0 +1,135 @@
+r"""Judging a Gaussian pose estimate: the NEES, its χ² bounds and the covariance ellipse.
+
+Holds :func:`nees`, :func:`chi2_quantile` and :func:`covariance_ellipse`, which measure an
+estimate :math:`(\mu, \Sigma)` against the truth. Does not hold the filters that produce
+the estimates or :func:`~probrob.localization.run_filter` (:mod:`probrob.localization`).
+
+A consistent filter's normalised estimation error squared
+:math:`e^T \Sigma^{-1} e` is :math:`\chi^2_3`-distributed (Bar-Shalom, Li & Kirubarajan,
+*Estimation with Applications to Tracking and Navigation*, §5.4): its mean over ``R``
+independent runs lies in ``chi2_quantile((1 ± p) / 2, 3 R) / R`` with probability ``p``,
+and the position error lies inside :func:`covariance_ellipse` with probability ``p``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.special import gammainccinv, gammaincinv
+
+from . import _validation as check
+from .angles import _wrap
+
+__all__ = ["chi2_quantile", "covariance_ellipse", "nees"]
+
+_LOG_2PI = math.log(2.0 * math.pi)
+
+
+def chi2_quantile(p: float, dof: int) -> float:
+    r"""Return the ``p``-quantile of the χ² distribution with ``dof`` degrees of freedom.
+
+    Not a table of the book: the bound of the χ² gate of
+    :func:`~probrob.localization.ekf_localization` and of the NEES band. The quantile is
+    :math:`q = 2\,P^{-1}(\mathrm{dof}/2, p)`, the inverse of the regularised lower
+    incomplete gamma function :math:`P` (:func:`scipy.special.gammaincinv`); for
+    :math:`p > 1/2` the inverse of the upper one, :math:`Q^{-1}(\mathrm{dof}/2, 1 - p)`
+    (:func:`scipy.special.gammainccinv`), with :math:`1 - p` exact in floating point, so
+    the tail near :math:`p = 1` keeps its digits. Relative accuracy about 1e-14 for
+    ``dof`` up to 1e5 and ``p`` in :math:`[10^{-12}, 1 - 10^{-12}]`.
+
+    Parameters
+    ----------
+    p : float
+        Probability in (0, 1).
+    dof : int
+        Degrees of freedom, >= 1.
+
+    Returns
+    -------
+    q : float
+        The value with :math:`P(\chi^2_{dof} \le q) = p`.
+    """
+    p = check.as_float_array(p, "p")
+    if p.ndim != 0 or not 0.0 < p < 1.0:
+        raise ValueError(f"p must lie in (0, 1), got {check._short(p)}")
+    p = float(p)
+    half = 0.5 * check.count(dof, "dof", 1)
+    if p > 0.5:
+        return 2.0 * float(gammainccinv(half, 1.0 - p))
+    return 2.0 * float(gammaincinv(half, p))
+
+
+def _pose_error(x_true, mu):
+    """``x_true - mu`` with the heading component wrapped to [-π, π)."""
+    e = np.subtract(x_true, mu)
+    e[..., 2] = _wrap(e[..., 2])
+    return e
+
+
+def nees(x_true, mu, Sigma):
+    r"""Return the normalised estimation error squared :math:`e^T \Sigma^{-1} e`.
+
+    Not a table of the book: :math:`e = x - \mu` with the heading error wrapped. For a
+    consistent filter it is :math:`\chi^2_3`-distributed: mean 3 (Bar-Shalom, Li &
+    Kirubarajan, *Estimation with Applications to Tracking and Navigation*, §5.4).
+
+    Parameters
+    ----------
+    x_true, mu : array_like, shape (..., 3)
+        True poses and estimates.
+    Sigma : array_like, shape (..., 3, 3)
+        Estimate covariances, symmetric positive definite.
+
+    Returns
+    -------
+    nees : float or ndarray, shape (...)
+
+    Raises
+    ------
+    ValueError
+        If ``Sigma`` is not symmetric or not positive definite.
+    """
+    x_true = check.poses(x_true, "x_true")
+    mu = check.poses(mu, "mu")
+    Sigma = check.covariance(Sigma, "Sigma", stack=True)
+    e = _pose_error(x_true, mu)
+    try:
+        L = np.linalg.cholesky(Sigma)
+    except np.linalg.LinAlgError:
+        raise ValueError("Sigma is not positive definite: the NEES needs its inverse") from None
+    w = np.linalg.solve(L, e[..., None])[..., 0]
+    return check.scalar_or_array(np.sum(w * w, axis=-1))
+
+
+def covariance_ellipse(mu, Sigma, p=0.95, n=60):
+    r"""Return ``n`` points on the ``p``-probability ellipse of the position of ``(mu, Sigma)``.
+
+    Not a table of the book: the boundary of :math:`\{x : (x - \mu_{xy})^T
+    \Sigma_{xy}^{-1} (x - \mu_{xy}) \le \chi^2_2(p)\}` for the 2×2 position block
+    :math:`\Sigma_{xy}`, the region that holds the true position with probability ``p``
+    if the estimate is right.
+
+    Parameters
+    ----------
+    mu : array_like, shape (3,) or (2,)
+    Sigma : array_like, shape (3, 3) or (2, 2)
+        Symmetric positive semi-definite.
+    p : float
+        Probability in (0, 1).
+    n : int
+        Number of points (the first is repeated at the end: ``n + 1`` rows).
+
+    Returns
+    -------
+    xy : ndarray, shape (n + 1, 2)
+    """
+    mu = check.finite(mu, "mu")
+    if mu.shape not in ((2,), (3,)):
+        raise ValueError(f"mu must have shape (3,) or (2,), got {mu.shape}")
+    S = check.covariance(Sigma, "Sigma", (3, 2))[:2, :2]
+    radius = math.sqrt(chi2_quantile(p, 2))
+    w, U = np.linalg.eigh(S)
+    t = np.linspace(0.0, 2.0 * np.pi, check.count(n, "n", 1) + 1)
+    circle = np.stack([np.cos(t), np.sin(t)], axis=-1)
+    return mu[:2] + radius * (circle * np.sqrt(np.clip(w, 0.0, None))) @ U.T
