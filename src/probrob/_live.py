@@ -30,6 +30,16 @@ six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histo
 samples): :func:`beam_model_live` (``beam.js``) and :func:`distribution_live` (Table 5.2,
 ``distribution.js``).
 
+A filter that runs over time has its own mount: :func:`particle_filter_live` (``mcl.js``,
+inlined after ``live.js`` and ``odometry.js``, whose helpers it uses) runs Monte Carlo
+localization (Table 8.2) over a stretch of a laser log on a map, with step and play buttons. It
+embeds the map's cells (2 bits each; the page computes the exact distance field and the
+likelihood-field table), the log (ranges in whole millimetres), and the random numbers of
+:func:`particle_filter_draws`; ``tests/test_live_mcl.py`` replays them through
+:func:`probrob.mcl.mcl` (``sample=``, ``resample_offset=``) and holds the page's particles,
+log-weights and estimates to it at every step. Its block states its own budgets
+(``data-size-budget``, ``data-update-budget``), which the browser check reads.
+
 Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
 
