@@ -13,7 +13,8 @@ For every page it checks that
   * every ``to_jshtml`` animation player changes its frame when its "Next frame" button is
     clicked, and again while "Play" runs;
   * every live widget redraws when two of its sliders are moved with the keyboard, updates
-    within 16 ms and weighs at most 200 kB (``.ci/live_widgets_check.py``);
+    within 16 ms and weighs at most 200 kB, or the budgets its block states
+    (``.ci/live_widgets_check.py``);
   * the page loads nothing from outside the local server (no external script, stylesheet, font,
     image), throws no JavaScript error, logs no console error or warning (each page is opened
     as a first visit, with empty local storage), and carries no thebe script;

@@ -7,6 +7,10 @@ For every live widget on the page it
     page, through the widget's ``bench`` hook, and asserts the median is within the budget (up
     to three runs of 100 when the machine is busy; the best run counts);
   * measures the widget's HTML (its element, with its style and script) against the size budget.
+The budgets are 16 ms and 200 kB unless the widget's block states its own
+(``data-update-budget`` in ms, ``data-size-budget`` in bytes): the live particle filter
+(``particle_filter_live``) states 400 kB, for the map and the stretch of the log it carries, and
+its ``bench`` times one filter step (Table 8.2 and the redraw) per update.
 Uncaught JavaScript errors are collected by the caller for the whole visit.
 
 Usage (from .ci/browser_check.py): ``lines, failures = check_live_widgets(page)``, where
@@ -25,6 +29,8 @@ Array.from(document.querySelectorAll(".probrob-live")).map((el) => ({
   id: el.id,
   ready: el.getAttribute("data-ready") === "true",
   bytes: new TextEncoder().encode(el.outerHTML).length,
+  sizeBudget: Number(el.dataset.sizeBudget || 0),
+  updateBudget: Number(el.dataset.updateBudget || 0),
   sliders: Array.from(el.querySelectorAll('input[type="range"]')).map((s) => s.dataset.param),
 }))
 """
@@ -82,6 +88,8 @@ def check_live_widgets(page) -> tuple[list[str], list[str]]:
     failures: list[str] = []
     for k, w in enumerate(page.js(JS_SURVEY)):
         name = f"live widget {k + 1} ({w['id']})"
+        size_budget = w["sizeBudget"] or SIZE_BUDGET_BYTES
+        update_budget = w["updateBudget"] or UPDATE_BUDGET_MS
         if not w["ready"]:
             failures.append(f"{name}: did not start (no data-ready)")
             continue
@@ -112,7 +120,7 @@ def check_live_widgets(page) -> tuple[list[str], list[str]]:
         runs = []
         for _ in range(3):
             runs.append(page.js(JS_BENCH % wid, timeout=120))
-            if runs[-1]["total"]["median"] <= UPDATE_BUDGET_MS:
+            if runs[-1]["total"]["median"] <= update_budget:
                 break
         bench = min(runs, key=lambda r: r["total"]["median"])
         total = bench["total"]
@@ -123,10 +131,8 @@ def check_live_widgets(page) -> tuple[list[str], list[str]]:
             f"(compute {bench['compute']['median']:.1f} ms, draw {bench['draw']['median']:.1f} ms)"
             + (f"; best of {len(runs)} runs" if len(runs) > 1 else "")
         )
-        if w["bytes"] > SIZE_BUDGET_BYTES:
-            failures.append(f"{name}: {w['bytes']} bytes of HTML > {SIZE_BUDGET_BYTES}")
-        if total["median"] > UPDATE_BUDGET_MS:
-            failures.append(
-                f"{name}: median update {total['median']:.1f} ms > {UPDATE_BUDGET_MS} ms"
-            )
+        if w["bytes"] > size_budget:
+            failures.append(f"{name}: {w['bytes']} bytes of HTML > {size_budget}")
+        if total["median"] > update_budget:
+            failures.append(f"{name}: median update {total['median']:.1f} ms > {update_budget} ms")
     return lines, failures

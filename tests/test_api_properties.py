@@ -1589,6 +1589,54 @@ API += [
         examples=5,
     ),
     Api(plotting.plot_particles, "plot", particles=PARTICLES, examples=5),
+    # the live particle filter (probrob._live.particle_filter_live, issue 16 item 6): every
+    # argument checked against its slider's range; a valid call builds the HTML of a two-step
+    # widget on the small map (its JavaScript is held to probrob.mcl in tests/test_live_mcl.py)
+    Api(live.particle_filter_draws, "widget", n_max=COUNT_POSITIVE, steps=COUNT_POSITIVE, rng=RNG),
+    Api(
+        widgets.particle_filter_live,
+        "widget",
+        odometry=Arg(
+            constant(np.array([[[0.0, 0.0, 0.0], [0.2, 0.05, 0.1]]] * 2)),
+            np.array([[[0.0, 0.0, 0.0], [0.2, 0.05, 0.1]]] * 2),
+            [(np.zeros((2, 3)), ValueError), (np.full((2, 2, 3), np.nan), ValueError)],
+        ),
+        scans=Arg(
+            constant(np.full((2, len(BEAMS)), 2.0)),
+            np.full((2, len(BEAMS)), 2.0),
+            [
+                (np.full((3, len(BEAMS)), 2.0), ValueError),
+                (np.full((2, len(BEAMS)), -1.0), ValueError),
+                (None, ValueError),
+            ],
+        ),
+        grid=GRID,
+        beam_angles=BEAM_ANGLES,
+        alpha=Arg(
+            constant([0.05] * 4),
+            [0.05] * 4,
+            [([0.05, 0.9, 0.05, 0.05], ValueError), ([0.05] * 3, ValueError)],
+        ),
+        params=Arg(constant(PARAMS), PARAMS, [(None, ValueError), ((0.7, 0.1, 0.1), ValueError)]),
+        truth=Arg(
+            constant(np.array([[2.0, 1.0, 0.3]] * 3)),
+            np.array([[2.0, 1.0, 0.3]] * 3),
+            [(np.zeros((2, 3)), ValueError), (np.full((3, 3), np.nan), ValueError)],
+        ),
+        start=Arg(choices("known", "global"), "known", BAD_CHOICE),
+        n_particles=Arg(choices(100, 200), 100, [(50, ValueError), *BAD_COUNT]),
+        n_max=Arg(constant(200), 200, [(150, ValueError), (6000, ValueError), *BAD_COUNT]),
+        beams=Arg(
+            lambda batch: st.integers(1, len(BEAMS)),
+            2,
+            [(0, ValueError), (len(BEAMS) + 1, ValueError), *BAD_COUNT],
+        ),
+        exponent=Arg(constant(1.0), 1.0, [(0.0, ValueError), (1.5, ValueError), *BAD_SCALAR]),
+        step=Arg(lambda batch: st.integers(0, 2), 0, [(3, ValueError), *BAD_COUNT]),
+        view=Arg(choices("map", "robot"), "map", BAD_CHOICE),
+        rng=SEED,
+        examples=3,
+    ),
     Api(
         mcl.occupied_bins,
         "map",

@@ -29,6 +29,7 @@ from scipy.stats import norm
 
 from . import _validation as check
 from .angles import wrap_angle
+from .distributions import sample_normal_distribution
 from .maps import _check_grid
 from .motion import sample_motion_model_odometry
 from .sensors import (
@@ -133,8 +134,18 @@ def _normalise_log(log_w: np.ndarray) -> np.ndarray:
     return np.exp(log_w - logsumexp(log_w))
 
 
+def _unit_draws(value, name: str, shape: tuple) -> np.ndarray:
+    """Given uniform draws in [0, 1) of ``shape`` (a float for ``()``), or a ValueError."""
+    u = check.finite(value, name)
+    if u.shape != shape:
+        raise ValueError(f"{name} must have shape {shape}, got {u.shape}")
+    if np.any(u < 0) or np.any(u >= 1):
+        raise ValueError(f"{name} must lie in [0, 1), got min {u.min()!r}, max {u.max()!r}")
+    return float(u) if shape == () else u
+
+
 # ---------------------------------------------------------------------- resampling
-def low_variance_sampler(weights, size=None, rng=None) -> np.ndarray:
+def low_variance_sampler(weights, size=None, rng=None, *, offset=None) -> np.ndarray:
     r"""Return the indices drawn by the low-variance sampler (*Probabilistic Robotics*, Table 4.4).
 
     One random number :math:`r \sim U(0, M^{-1})` (line 3) and the :math:`M` equally spaced
@@ -150,6 +161,10 @@ def low_variance_sampler(weights, size=None, rng=None) -> np.ndarray:
     size : int, optional
         :math:`M`, the number of indices to draw (default ``N``).
     rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+    offset : float in [0, 1), optional
+        A uniform draw to use for line 3 instead of one from ``rng``: :math:`r = offset / M`
+        (``rng`` is then not used). For replaying given random numbers, e.g. those the
+        live particle filter of :func:`probrob.widgets.particle_filter_live` embeds.
 
     Returns
     -------
@@ -158,8 +173,10 @@ def low_variance_sampler(weights, size=None, rng=None) -> np.ndarray:
     """
     w = _weights(weights)
     m = w.size if size is None else check.count(size, "size", 1)
-    gen = check.rng(rng)
-    r = gen.uniform(0.0, 1.0 / m)  # line 3
+    if offset is None:
+        r = check.rng(rng).uniform(0.0, 1.0 / m)  # line 3
+    else:
+        r = _unit_draws(offset, "offset", ()) / m  # line 3, r ~ U(0, 1/M) given
     u = r + np.arange(m) / m  # line 7, for every m at once
     c = np.cumsum(w)  # lines 4 and 10, accumulated
     c[-1] = 1.0  # the last pointer is < 1: round-off must not push it past the end
@@ -192,7 +209,7 @@ def effective_sample_size(weights, *, log=False) -> float:
 
 
 # ---------------------------------------------------------------------- initial particles
-def uniform_particles(grid, n, rng=None, *, free=None) -> np.ndarray:
+def uniform_particles(grid, n, rng=None, *, free=None, uniforms=None) -> np.ndarray:
     r"""Draw ``n`` poses uniformly over the free space of a map, headings uniform in :math:`[-\pi, \pi)`.
 
     The prior of global localization (*Probabilistic Robotics*, Sec. 8.3). A free cell is drawn
@@ -208,6 +225,12 @@ def uniform_particles(grid, n, rng=None, *, free=None) -> np.ndarray:
         The cells to draw from (default: the grid's :attr:`~probrob.maps.OccupancyGrid.free`
         cells; for a map built from scans, those its beams saw, so that no particle starts
         in unexplored space).
+    uniforms : array_like, shape (n, 4), optional
+        Uniform draws in [0, 1) to use instead of ``rng`` (which is then not used): per
+        particle, the free cell ``floor(u0 * count)`` in row-major order of the free cells,
+        the point ``(j + u1, i + u2)`` cells from the origin inside it, and the heading
+        :math:`-\pi + 2\pi u_3`. For replaying given random numbers (the live particle
+        filter of :func:`probrob.widgets.particle_filter_live`).
 
     Returns
     -------
@@ -228,10 +251,17 @@ def uniform_particles(grid, n, rng=None, *, free=None) -> np.ndarray:
     cells = np.flatnonzero(mask)
     if cells.size == 0:
         raise ValueError("the map has no free cell to draw particles from")
-    pick = cells[gen.integers(cells.size, size=n)]
+    if uniforms is None:
+        pick = cells[gen.integers(cells.size, size=n)]
+        inside = gen.random((n, 2))
+        theta = gen.uniform(-np.pi, np.pi, size=n)
+    else:
+        u = _unit_draws(uniforms, "uniforms", (n, 4))
+        pick = cells[np.floor(u[:, 0] * cells.size).astype(np.intp)]
+        inside = u[:, 1:3]
+        theta = -np.pi + (2.0 * np.pi) * u[:, 3]  # as Generator.uniform(-π, π)
     i, j = np.divmod(pick, grid.shape[1])
-    xy = grid.origin + (np.stack([j, i], axis=-1) + gen.random((n, 2))) * grid.resolution
-    theta = gen.uniform(-np.pi, np.pi, size=n)
+    xy = grid.origin + (np.stack([j, i], axis=-1) + inside) * grid.resolution
     return np.column_stack([xy, theta])
 
 
@@ -291,9 +321,9 @@ def _log_weights(x, z, grid, angles, params, sensor, exponent):
     return log_w
 
 
-def _predict(x, u, alpha, gen):
+def _predict(x, u, alpha, gen, sample=sample_normal_distribution):
     """Table 8.2, line 4: x_t^[m] ~ p(x_t | u_t, x_{t-1}^[m]), the odometry model (Table 5.6)."""
-    return sample_motion_model_odometry(u, x, alpha, rng=gen)
+    return sample_motion_model_odometry(u, x, alpha, sample=sample, rng=gen)
 
 
 def _checked(particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng):
@@ -323,6 +353,8 @@ def mcl(
     sensor="likelihood_field",
     exponent=1.0,
     rng=None,
+    sample=sample_normal_distribution,
+    resample_offset=None,
 ) -> np.ndarray:
     r"""One step of Monte Carlo localization (*Probabilistic Robotics*, Table 8.2).
 
@@ -348,6 +380,16 @@ def mcl(
     exponent : float in (0, 1], optional
         Tempering of the beam product (see :func:`measurement_log_weights`); 1 is the book's.
     rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
+    sample : callable, optional
+        The zero-mean sampler of the motion model, ``sample(b2, size=..., rng=...)``, as
+        :func:`~probrob.motion.sample_motion_model_odometry` takes it (default the book's
+        :func:`~probrob.distributions.sample_normal_distribution`). Called three times, for
+        :math:`\hat\delta_{rot1}`, :math:`\hat\delta_{trans}`, :math:`\hat\delta_{rot2}`, with
+        ``size=(N,)``.
+    resample_offset : float in [0, 1), optional
+        The low-variance sampler's random number as a uniform draw (``offset`` of
+        :func:`low_variance_sampler`); default drawn from ``rng``. With ``sample`` it replays
+        given random numbers (the live particle filter's test does).
 
     Returns
     -------
@@ -364,9 +406,9 @@ def mcl(
     x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
         particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
     )
-    x_bar = _predict(x, u, alpha, gen)  # line 4
+    x_bar = _predict(x, u, alpha, gen, sample)  # line 4
     w = _normalise_log(_log_weights(x_bar, z, grid, angles, p, sensor, exponent))  # line 5
-    return x_bar[low_variance_sampler(w, rng=gen)]  # lines 8-11
+    return x_bar[low_variance_sampler(w, rng=gen, offset=resample_offset)]  # lines 8-11
 
 
 # ---------------------------------------------------------------------- Table 8.3

@@ -476,6 +476,7 @@ from ._live import (  # noqa: E402
     landmark_model_live,
     live_widget,
     odometry_model_live,
+    particle_filter_live,
     velocity_model_live,
 )
 
@@ -485,5 +486,6 @@ __all__ += [
     "landmark_model_live",
     "live_widget",
     "odometry_model_live",
+    "particle_filter_live",
     "velocity_model_live",
 ]
