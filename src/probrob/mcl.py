@@ -678,7 +678,8 @@ def estimate_pose(particles, weights=None, *, radius=0.5) -> PoseEstimate:
     cells = np.clip(np.floor(x[:, :2] / radius), -limit, limit).astype(np.int64)
     keys, inverse = np.unique(cells, axis=0, return_inverse=True)
     inverse = inverse.reshape(-1)
-    mass = np.bincount(inverse, weights=w, minlength=len(keys))
+    # equal weights: whole counts, so that ties between blocks are exact (and broken by order)
+    mass = np.bincount(inverse, weights=None if weights is None else w, minlength=len(keys))
     # one sorted integer code per occupied bin (np.unique sorts the rows lexicographically)
     shifted = keys - keys.min(axis=0) + 1
     span = int(shifted[:, 1].max()) + 2

@@ -124,9 +124,10 @@ function lowVarianceSampler(w, n, m, offset, out) {
   return out;
 }
 
-// probrob.mcl.estimate_pose of n equally weighted particles: the heaviest (x, y) bin of side
-// `radius` (ties: the smallest bin in (x, y) order, numpy.unique's), then the mean of the
-// particles within 2·radius of that bin's mean, θ by circular mean
+// probrob.mcl.estimate_pose of n equally weighted particles: the (x, y) bins of side `radius`;
+// the block of 3 x 3 bins that holds the most particles seeds the cluster (ties: the smallest
+// centre bin in (x, y) order, numpy.unique's); then the mean of the particles within 2·radius
+// of the block's mean, θ by circular mean
 function estimatePose(x, n, radius) {
   const counts = new Map();
   const bx = new Float64Array(n);
@@ -138,8 +139,12 @@ function estimatePose(x, n, radius) {
     counts.set(key, (counts.get(key) || 0) + 1);
   }
   let best = null;
-  for (const [key, c] of counts) {
+  for (const key of counts.keys()) {
     const [kx, ky] = key.split(",").map(Number);
+    let c = 0;
+    for (let di = -1; di <= 1; di++) {
+      for (let dj = -1; dj <= 1; dj++) c += counts.get(kx + di + "," + (ky + dj)) || 0;
+    }
     if (best === null || c > best.c || (c === best.c && (kx < best.kx || (kx === best.kx && ky < best.ky)))) {
       best = { c, kx, ky };
     }
@@ -149,7 +154,7 @@ function estimatePose(x, n, radius) {
   let sy = 0;
   let sw = 0;
   for (let i = 0; i < n; i++) {
-    if (bx[i] === best.kx && by[i] === best.ky) {
+    if (Math.abs(bx[i] - best.kx) <= 1 && Math.abs(by[i] - best.ky) <= 1) {
       sx += x[3 * i] * wgt;
       sy += x[3 * i + 1] * wgt;
       sw += wgt;
