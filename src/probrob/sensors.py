@@ -1044,12 +1044,27 @@ def likelihood_field_range_finder_model(
     gx = (x[..., 0:1] + xs * ct - ys * st - ox) / res
     gy = (x[..., 1:2] + ys * ct + xs * st - oy) / res
     zr = z / res
-    ex = gx + zr * (ct * ca - st * sa)
-    ey = gy + zr * (st * ca + ct * sa)
+    # ex = gx + zr (ct ca - st sa), ey = gy + zr (st ca + ct sa), computed into two buffers of
+    # the batch's shape (the same operations in the same order: the same numbers, fewer
+    # temporaries; an MCL step evaluates this for 10,000 particles x 60 beams).
+    shape = np.broadcast_shapes(gx.shape, zr.shape, ct.shape[:-1] + ca.shape)
+    ex, ey, tmp = np.empty(shape), np.empty(shape), np.empty(shape)
+    np.multiply(ct, ca, out=ex)
+    ex -= np.multiply(st, sa, out=tmp)
+    ex *= zr
+    ex += gx
+    np.multiply(st, ca, out=ey)
+    ey += np.multiply(ct, sa, out=tmp)
+    ey *= zr
+    ey += gy
     h, w = grid.shape
     # Padded table: indices clipped into [-1, W] x [-1, H] land on the border value.
-    j = np.floor(np.clip(ex, -1.0, w)).astype(np.intp) + 1
-    i = np.floor(np.clip(ey, -1.0, h)).astype(np.intp) + 1
-    lp = table.ravel()[i * (w + 2) + j]
-    lp = np.where(z < p.max_range, lp, 0.0).sum(axis=-1)
+    j = np.floor(np.clip(ex, -1.0, w, out=ex), out=ex).astype(np.intp)
+    i = np.floor(np.clip(ey, -1.0, h, out=ey), out=ey).astype(np.intp)
+    i += 1
+    i *= w + 2
+    i += j + 1
+    lp = table.ravel().take(i)
+    hit = z < p.max_range
+    lp = (lp if hit.all() else np.where(hit, lp, 0.0)).sum(axis=-1)
     return check.scalar_or_array(lp if log else np.exp(lp))
