@@ -45,7 +45,7 @@ from probrob.widgets import (
 ROOT = Path(__file__).resolve().parent.parent
 PROB = {"normal": prob_normal_distribution, "triangular": prob_triangular_distribution}
 RTOL = 1e-9
-N, GRID, SEED = 1000, 100, 0
+N, GRID, SEED = 1000, 70, 0  # the widgets' defaults
 PI = np.pi
 
 _spec = importlib.util.spec_from_file_location(

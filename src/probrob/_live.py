@@ -769,7 +769,7 @@ _FORMS_CAPTION = (
     'Left: noise="std", each noise term\'s standard deviation is a sum α·|m| + …; right: '
     'noise="variance", each variance is a sum α·m² + … (with α² by default, so that a sum of '
     "one term is the same noise in both). Red: {n} samples from the same draws (the first 60 "
-    "with their heading); grey: the density on a 100 × 100 grid, one grey scale for both "
+    "with their heading); grey: the density on a {grid} × {grid} grid, one grey scale for both "
     "(darker is more probable); black arrow: the start pose; blue arrow: the noise-free end "
     "pose. The view grows with the clouds; “fit view” zooms back in."
 )
@@ -786,7 +786,7 @@ def velocity_noise_forms_live(
     distribution="normal",
     density="xy",
     n_particles=1000,
-    grid=100,
+    grid=70,
     rng=0,
 ) -> LiveWidget:
     r"""Return a live widget of the velocity model's two noise forms side by side (Tables 5.1, 5.3).
@@ -810,7 +810,9 @@ def velocity_noise_forms_live(
     distribution : {"normal", "triangular"}
     density : {"xy", "pose", "book"}
     n_particles, grid, rng
-        Particles per panel, density grid points per axis, seed of the draws.
+        Particles per panel, density grid points per axis, seed of the draws. The defaults
+        (1000 and 70, two panels) cost an update what :func:`velocity_model_live`'s 2000
+        particles and 100 × 100 grid cost.
 
     Returns
     -------
@@ -830,7 +832,7 @@ def velocity_noise_forms_live(
         sliders,
         _forms_choices(distribution, density, pairing),
         title="Velocity model, the two noise forms (Tables 5.1 and 5.3)",
-        caption=_FORMS_CAPTION.format(n=n_particles),
+        caption=_FORMS_CAPTION.format(n=n_particles, grid=grid),
         aria_label=(
             "Two plots of the velocity motion model in the x-y plane, side by side: the "
             "standard-deviation noise form on the left and the variance form on the right, each "
@@ -856,7 +858,7 @@ def odometry_noise_forms_live(
     distribution="normal",
     density="xy",
     n_particles=1000,
-    grid=100,
+    grid=70,
     rng=0,
 ) -> LiveWidget:
     r"""Return a live widget of the odometry model's two noise forms side by side (Tables 5.5, 5.6).
@@ -894,7 +896,7 @@ def odometry_noise_forms_live(
         sliders,
         _forms_choices(distribution, density, pairing),
         title="Odometry model, the two noise forms (Tables 5.5 and 5.6)",
-        caption=_FORMS_CAPTION.format(n=n_particles),
+        caption=_FORMS_CAPTION.format(n=n_particles, grid=grid),
         aria_label=(
             "Two plots of the odometry motion model in the x-y plane, side by side: the "
             "standard-deviation noise form on the left and the variance form on the right, each "
