@@ -28,7 +28,10 @@ files are package data, read when a widget is made and inlined into its HTML. A 
 picture is a curve of one variable, such as the beam model's :math:`p(z \mid z^*)` with its
 six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histogram of its
 samples): :func:`beam_model_live` (``beam.js``) and :func:`distribution_live` (Table 5.2,
-``distribution.js``).
+``distribution.js``). A kernel with ``panels: 2`` draws the same model twice side by side at
+two sets of parameters (:func:`velocity_noise_forms_live`, ``noise_forms.js`` on the unchanged
+``velocity.js``, pulled in by ``requires``); a kernel of ``kind: "scene"`` draws a geometric
+construction and exposes its numbers (:func:`cir_step_live`, ``cir.js``).
 
 Test hook (used by the tests and ``.ci/browser_check.py``): every widget on a page registers
 itself in ``window.probrobLive.widgets`` (page order) as a handle with
@@ -42,7 +45,9 @@ itself in ``window.probrobLive.widgets`` (page order) as a handle with
   or ``(n,)`` for a curve; ``density`` is ``(ny, nx)`` with ``density[i, j]`` at
   ``(xs[j], ys[i])``, ``ny = 1`` for a curve; ``theta`` the
   hypothesis heading of densities taken at one heading) and the milliseconds of the last
-  update (``compute``: particles and grid; ``draw``; ``total``);
+  update (``compute``: particles and grid; ``draw``; ``total``); and ``panels`` (``k``: with
+  ``k > 1`` panels, ``particles`` is ``(k n, 3)`` and ``density`` ``(k ny, nx)``, panel after
+  panel) and ``scene`` (a scene kernel's values by name, each base64 float64);
 * ``draws(name)`` — one embedded array of draws, base64 float64 ``(k, n)``;
 * ``bench(count)`` — time ``count`` full updates (after 10 untimed ones), each with one
   parameter moved; returns ``{count, compute, draw, total}``, each ``{median, p90, max}`` in
@@ -841,8 +846,8 @@ def velocity_noise_forms_live(
         n_particles=n_particles,
         grid=grid,
         rng=rng,
-        width=880,
-        height=470,
+        width=660,
+        height=316,
         requires=("velocity", "noise_forms"),
     )
 
@@ -905,8 +910,8 @@ def odometry_noise_forms_live(
         n_particles=n_particles,
         grid=grid,
         rng=rng,
-        width=880,
-        height=470,
+        width=660,
+        height=316,
         requires=("odometry", "noise_forms"),
     )
 

@@ -295,7 +295,7 @@ function mountLiveWidget(root, config, kernel) {
 
   // ---- drawing ------------------------------------------------------------------------
   const M = { left: 62, top: 34, right: 118, bottom: 48 };
-  const GAP = M.left; // between panels: room for the next panel's tick labels
+  const GAP = 14; // between panels, which share the y axis (its labels on the first only)
   const S = Math.min((W - M.left - M.right - (panels - 1) * GAP) / panels, H - M.top - M.bottom);
 
   function arrow(x, y, th, length, color, sx, sy) {
@@ -323,7 +323,8 @@ function mountLiveWidget(root, config, kernel) {
   }
 
   // A plot box of PW x PH pixels at (M.left + offset, M.top) for [x0, x1] x [y0, y1]: frame, ticks,
-  // axis labels and title; returns the maps from data to pixels.
+  // axis labels and title (a panel right of the first, offset > 0, shares its y labels);
+  // returns the maps from data to pixels.
   function frame(x0, x1, y0, y1, PW, PH, xlabel, ylabel, title, offset) {
     const left = M.left + (offset || 0);
     const sx = (x) => left + ((x - x0) / (x1 - x0)) * PW;
@@ -346,14 +347,16 @@ function mountLiveWidget(root, config, kernel) {
     for (const t of niceTicks(y0, y1, 5)) {
       const Y = sy(t);
       ctx.fillRect(left - 5, Y, 5, 1);
-      ctx.fillText(fmtTick(t), left - 7, Y);
+      if (!offset) ctx.fillText(fmtTick(t), left - 7, Y);
     }
-    ctx.save();
-    ctx.translate(left - 46, M.top + PH / 2);
-    ctx.rotate(-Math.PI / 2);
-    ctx.textAlign = "center";
-    ctx.fillText(ylabel, 0, 0);
-    ctx.restore();
+    if (!offset) {
+      ctx.save();
+      ctx.translate(left - 46, M.top + PH / 2);
+      ctx.rotate(-Math.PI / 2);
+      ctx.textAlign = "center";
+      ctx.fillText(ylabel, 0, 0);
+      ctx.restore();
+    }
     ctx.textAlign = "center";
     ctx.textBaseline = "bottom";
     ctx.font = "13px sans-serif";

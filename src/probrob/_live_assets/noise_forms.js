@@ -16,8 +16,8 @@ function noiseForms(base, count) {
       return q;
     },
     title(q) {
-      if (q.noise === "std") return 'noise="std": α·|m| sums are std devs';
-      return 'noise="variance": ' + (q.pairing === "squared" ? "α²" : "α") + "·m² sums are variances";
+      if (q.noise === "std") return 'noise="std" at α';
+      return 'noise="variance" at ' + (q.pairing === "squared" ? "α²" : "α");
     },
   });
 }
