@@ -759,7 +759,7 @@ def _forms_choices(distribution, density, pairing):
     check.choice(density, "density", tuple(v for v, _ in DENSITY_MODES))
     check.choice(pairing, "pairing", tuple(v for v, _ in PAIRINGS))
     return [
-        Choice("pairing", "α of the variance form", PAIRINGS, pairing),
+        Choice("pairing", "variance form", PAIRINGS, pairing),
         Choice(
             "distribution",
             "distribution",
