@@ -1657,6 +1657,66 @@ API += [
     ),
 ]
 
+# the live widgets of issue 17: the Turkish lecture's two noise forms side by side and the CIR
+# report's step (probrob._live; their JavaScript is tested in test_live_widgets_tr_cir)
+LIVE_PAIRING = Arg(choices("squared", "same"), "squared", BAD_CHOICE)
+LIVE_ARC = Arg(
+    lambda batch: floats([-1.0, 0.0, 0.3, 0.6, 1.5], -1.0, 1.5),
+    0.6,
+    [(-1.5, ValueError), (2.0, ValueError), *BAD_SCALAR],
+)
+API += [
+    Api(
+        widgets.velocity_noise_forms_live,
+        "widget",
+        v=Arg(constant(1.0), 1.0, [(2.5, ValueError), *BAD_SCALAR]),
+        w=Arg(constant(0.0), 0.0, [(-2.5, ValueError), *BAD_SCALAR]),
+        dt=Arg(constant(1.0), 1.0, [(0.0, ValueError), (5.0, ValueError), *BAD_SCALAR]),
+        theta=LIVE_THETA,
+        alpha=Arg(constant([0.1] * 6), [0.1] * 6, [([0.6] + [0.1] * 5, ValueError)]),
+        pairing=LIVE_PAIRING,
+        distribution=LIVE_DISTRIBUTION,
+        density=LIVE_DENSITY,
+        n_particles=LIVE_PARTICLES,
+        grid=LIVE_GRID,
+        rng=SEED,
+        examples=3,
+    ),
+    Api(
+        widgets.odometry_noise_forms_live,
+        "widget",
+        rot1=Arg(constant(0.6), 0.6, [(3.2, ValueError), *BAD_SCALAR]),
+        trans=Arg(constant(0.0), 0.0, [(-0.1, ValueError), (3.5, ValueError), *BAD_SCALAR]),
+        rot2=Arg(constant(-0.4), -0.4, [(-3.2, ValueError), *BAD_SCALAR]),
+        theta=LIVE_THETA,
+        alpha=Arg(constant([0.2] * 4), [0.2] * 4, [([0.2, 0.9, 0.2, 0.2], ValueError)]),
+        pairing=LIVE_PAIRING,
+        distribution=LIVE_DISTRIBUTION,
+        density=LIVE_DENSITY,
+        n_particles=LIVE_PARTICLES,
+        grid=LIVE_GRID,
+        rng=SEED,
+        examples=3,
+    ),
+    Api(
+        widgets.cir_step_live,
+        "widget",
+        s_sx=LIVE_ARC,
+        s_dx=LIVE_ARC,
+        wheelbase=Arg(
+            lambda batch: floats([0.1, 0.4, 1.0], 0.1, 1.0),
+            0.4,
+            [(0.05, ValueError), (1.5, ValueError), *BAD_POSITIVE],
+        ),
+        theta=Arg(
+            lambda batch: floats([0.0, -3.14, 3.14], -3.14, 3.14),
+            0.0,
+            [(3.2, ValueError), *BAD_SCALAR],
+        ),
+        examples=5,
+    ),
+]
+
 # Invalid combinations that no single argument shows: (function, kwargs, names, exception).
 EXTRA_INVALID = [
     (

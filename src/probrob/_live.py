@@ -31,7 +31,10 @@ files are package data, read when a widget is made and inlined into its HTML. A 
 picture is a curve of one variable, such as the beam model's :math:`p(z \mid z^*)` with its
 six intrinsic parameters, is a kernel of ``kind: "curve"`` (a curve over a histogram of its
 samples): :func:`beam_model_live` (``beam.js``) and :func:`distribution_live` (Table 5.2,
-``distribution.js``).
+``distribution.js``). A kernel with ``panels: 2`` draws the same model twice side by side at
+two sets of parameters (:func:`velocity_noise_forms_live`, ``noise_forms.js`` on the unchanged
+``velocity.js``, pulled in by ``requires``); a kernel of ``kind: "scene"`` draws a geometric
+construction and exposes its numbers (:func:`cir_step_live`, ``cir.js``).
 
 A filter that runs over time has its own mount: :func:`particle_filter_live` (``mcl.js``,
 inlined after ``live.js`` and ``odometry.js``, whose helpers it uses) runs Monte Carlo
@@ -55,7 +58,9 @@ itself in ``window.probrobLive.widgets`` (page order) as a handle with
   or ``(n,)`` for a curve; ``density`` is ``(ny, nx)`` with ``density[i, j]`` at
   ``(xs[j], ys[i])``, ``ny = 1`` for a curve; ``theta`` the
   hypothesis heading of densities taken at one heading) and the milliseconds of the last
-  update (``compute``: particles and grid; ``draw``; ``total``);
+  update (``compute``: particles and grid; ``draw``; ``total``); and ``panels`` (``k``: with
+  ``k > 1`` panels, ``particles`` is ``(k n, 3)`` and ``density`` ``(k ny, nx)``, panel after
+  panel) and ``scene`` (a scene kernel's values by name, each base64 float64);
 * ``draws(name)`` — one embedded array of draws, base64 float64 ``(k, n)``;
 * ``bench(count)`` — time ``count`` full updates (after 10 untimed ones), each with one
   parameter moved; returns ``{count, compute, draw, total}``, each ``{median, p90, max}`` in
@@ -262,6 +267,7 @@ def live_widget(
     rng=0,
     width: int = 600,
     height: int = 500,
+    requires: tuple[str, ...] = (),
 ) -> LiveWidget:
     """Return a live widget of the model whose JavaScript kernel is ``_live_assets/<kernel>.js``.
 
@@ -292,6 +298,9 @@ def live_widget(
         Seed of the default draws.
     width, height : int
         Canvas size in CSS pixels.
+    requires : sequence of str
+        Further kernel files (without ``.js``) inlined before the kernel's own, in this order:
+        a kernel built on others (e.g. ``velocity_forms`` on ``velocity`` and ``noise_forms``).
 
     Returns
     -------
@@ -301,6 +310,12 @@ def live_widget(
         kernel_js = _asset(f"{kernel}.js")
     except (FileNotFoundError, OSError) as exc:
         raise ValueError(f"kernel must name a file {_ASSETS}/<kernel>.js, got {kernel!r}") from exc
+    try:
+        kernel_js = "\n".join([*(_asset(f"{name}.js") for name in requires), kernel_js])
+    except (FileNotFoundError, OSError, TypeError) as exc:
+        raise ValueError(
+            f"requires must name files {_ASSETS}/<name>.js, got {requires!r}"
+        ) from exc
     n_particles = check.count(n_particles, "n_particles", 0)
     grid = check.count(grid, "grid", 2)
     headings = check.count(headings, "headings", 0)
@@ -1128,4 +1143,237 @@ mountParticleFilter(root, config);
 </script>
 </div>""",
         "mcl",
+    )
+
+
+# ---- the Turkish lecture's two noise forms side by side, and the CIR report's step (issue 17):
+# kernels noise_forms.js (on velocity.js / odometry.js) and cir.js ---------------------------
+
+__all__ += ["cir_step_live", "odometry_noise_forms_live", "velocity_noise_forms_live"]
+
+#: How the variance form's α relate to the sliders' (the standard-deviation form's) α.
+PAIRINGS = (
+    ("squared", "variance form at α²: the same noise for one term"),
+    ("same", "variance form at the same α"),
+)
+
+
+def _forms_choices(distribution, density, pairing):
+    check.choice(distribution, "distribution", tuple(DISTRIBUTIONS))
+    check.choice(density, "density", tuple(v for v, _ in DENSITY_MODES))
+    check.choice(pairing, "pairing", tuple(v for v, _ in PAIRINGS))
+    return [
+        Choice("pairing", "variance form", PAIRINGS, pairing),
+        Choice(
+            "distribution",
+            "distribution",
+            tuple((k, label) for k, (label, _) in DISTRIBUTIONS.items()),
+            distribution,
+        ),
+        Choice("density", "density", DENSITY_MODES, density),
+    ]
+
+
+_FORMS_CAPTION = (
+    'Left: noise="std", each noise term\'s standard deviation is a sum α·|m| + …; right: '
+    'noise="variance", each variance is a sum α·m² + … (with α² by default, so that a sum of '
+    "one term is the same noise in both). Red: {n} samples from the same draws (the first 60 "
+    "with their heading); grey: the density on a {grid} × {grid} grid, one grey scale for both "
+    "(darker is more probable); black arrow: the start pose; blue arrow: the noise-free end "
+    "pose. The view grows with the clouds; “fit view” zooms back in."
+)
+
+
+def velocity_noise_forms_live(
+    *,
+    v=1.0,
+    w=0.8,
+    dt=1.0,
+    theta=0.0,
+    alpha=(0.1, 0.1, 0.1, 0.1, 0.05, 0.05),
+    pairing="squared",
+    distribution="normal",
+    density="xy",
+    n_particles=1000,
+    grid=70,
+    rng=0,
+) -> LiveWidget:
+    r"""Return a live widget of the velocity model's two noise forms side by side (Tables 5.1, 5.3).
+
+    The Turkish lecture gives the noise of :math:`\hat v, \hat\omega, \hat\gamma` as a standard
+    deviation :math:`\alpha_1|v| + \alpha_2|\omega|` (``noise="std"``, left panel) and, on its
+    *veya* slide, as a variance :math:`\alpha_1 v^2 + \alpha_2\omega^2` (``noise="variance"``,
+    right panel). Both panels are :func:`velocity_model_live`'s kernel fed the same draws
+    (:func:`standard_draws`), the left one at the sliders' :math:`\alpha`, the right one at
+    :math:`\alpha^2` (``pairing="squared"``: a sum of one term is then the same noise in both)
+    or at the same :math:`\alpha` (``pairing="same"``). Sliders and the other choices as
+    :func:`velocity_model_live`.
+
+    Parameters
+    ----------
+    v, w, dt, theta : float
+        Initial slider values (v, ω in [-2, 2], Δt in [0.1, 3], θ in [-3.14, 3.14]).
+    alpha : array_like, shape (6,)
+        Initial noise parameters of the standard-deviation form, each in [0, 0.5].
+    pairing : {"squared", "same"}
+    distribution : {"normal", "triangular"}
+    density : {"xy", "pose", "book"}
+    n_particles, grid, rng
+        Particles per panel, density grid points per axis, seed of the draws. The defaults
+        (1000 and 70, two panels) cost an update what :func:`velocity_model_live`'s 2000
+        particles and 100 × 100 grid cost.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    sliders = [
+        Slider("v", "v [m/s]", _in_range(v, "v", -2, 2), -2.0, 2.0, 0.01),
+        Slider("w", "ω [rad/s]", _in_range(w, "w", -2, 2), -2.0, 2.0, 0.01),
+        Slider("dt", "Δt [s]", _in_range(dt, "dt", 0.1, 3), 0.1, 3.0, 0.01),
+        Slider(
+            "theta", "θ start [rad]", _in_range(theta, "theta", -3.14, 3.14), -3.14, 3.14, 0.01
+        ),
+        *_alpha_sliders(alpha, 6),
+    ]
+    return live_widget(
+        "velocity_forms",
+        sliders,
+        _forms_choices(distribution, density, pairing),
+        title="Velocity model, the two noise forms (Tables 5.1 and 5.3)",
+        caption=_FORMS_CAPTION.format(n=n_particles, grid=grid),
+        aria_label=(
+            "Two plots of the velocity motion model in the x-y plane, side by side: the "
+            "standard-deviation noise form on the left and the variance form on the right, each "
+            "a cloud of sampled end poses over a grey density image."
+        ),
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+        width=660,
+        height=316,
+        requires=("velocity", "noise_forms"),
+    )
+
+
+def odometry_noise_forms_live(
+    *,
+    rot1=0.6,
+    trans=1.0,
+    rot2=-0.4,
+    theta=0.0,
+    alpha=(0.2, 0.1, 0.2, 0.1),
+    pairing="squared",
+    distribution="normal",
+    density="xy",
+    n_particles=1000,
+    grid=70,
+    rng=0,
+) -> LiveWidget:
+    r"""Return a live widget of the odometry model's two noise forms side by side (Tables 5.5, 5.6).
+
+    As :func:`velocity_noise_forms_live` for :func:`odometry_model_live`'s kernel: the noise
+    of :math:`\hat\delta_{rot1}` is :math:`\alpha_1|\delta_{rot1}| + \alpha_2\delta_{trans}`
+    as a standard deviation (left) or :math:`\alpha_1\delta_{rot1}^2 + \alpha_2\delta_{trans}^2`
+    as a variance (right), and likewise for :math:`\hat\delta_{trans}` and
+    :math:`\hat\delta_{rot2}`.
+
+    Parameters
+    ----------
+    rot1, trans, rot2, theta : float
+        Initial slider values (rotations in [-3.14, 3.14] rad, translation in [0, 3] m).
+    alpha : array_like, shape (4,)
+        Initial noise parameters of the standard-deviation form, each in [0, 0.5].
+    pairing, distribution, density, n_particles, grid, rng
+        As for :func:`velocity_noise_forms_live`.
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    sliders = [
+        Slider("rot1", "δrot1 [rad]", _in_range(rot1, "rot1", -3.14, 3.14), -3.14, 3.14, 0.01),
+        Slider("trans", "δtrans [m]", _in_range(trans, "trans", 0, 3), 0.0, 3.0, 0.01),
+        Slider("rot2", "δrot2 [rad]", _in_range(rot2, "rot2", -3.14, 3.14), -3.14, 3.14, 0.01),
+        Slider(
+            "theta", "θ start [rad]", _in_range(theta, "theta", -3.14, 3.14), -3.14, 3.14, 0.01
+        ),
+        *_alpha_sliders(alpha, 4),
+    ]
+    return live_widget(
+        "odometry_forms",
+        sliders,
+        _forms_choices(distribution, density, pairing),
+        title="Odometry model, the two noise forms (Tables 5.5 and 5.6)",
+        caption=_FORMS_CAPTION.format(n=n_particles, grid=grid),
+        aria_label=(
+            "Two plots of the odometry motion model in the x-y plane, side by side: the "
+            "standard-deviation noise form on the left and the variance form on the right, each "
+            "a cloud of sampled end poses over a grey density image."
+        ),
+        n_particles=n_particles,
+        grid=grid,
+        rng=rng,
+        width=660,
+        height=316,
+        requires=("odometry", "noise_forms"),
+    )
+
+
+def cir_step_live(*, s_sx=0.6, s_dx=0.3, wheelbase=0.4, theta=0.0) -> LiveWidget:
+    r"""Return a live widget of one step about the CIR (the CIR report, eqs. 2–8).
+
+    Sliders for the wheel arc lengths :math:`s_{sx}` (left) and :math:`s_{dx}` (right), the
+    wheel base :math:`l` and the start heading :math:`\theta` (the report's convention:
+    clockwise). The page computes :func:`~probrob.kinematics.cir_radius_angle`,
+    :func:`~probrob.kinematics.cir_step_transform` and
+    :func:`~probrob.kinematics.cir_state_function` as the library does, and draws the robot
+    before (grey) and after (black) the step from the origin, the paths of both wheels and of
+    the middle of the axle (the state function at the fractions ``linspace(0, 1, 61)`` of the
+    step), the CIR at :math:`(0, -(r + l/2))` in the start frame and its radii; on a straight
+    line (:math:`s_{sx} = s_{dx}`, :math:`r = \pm\infty`) there is no CIR, and a rotation in
+    place (:math:`s_{dx} = -s_{sx}`) turns about the middle of the axle.
+
+    Parameters
+    ----------
+    s_sx, s_dx : float
+        Initial arc lengths, each in [-1, 1.5] m.
+    wheelbase : float
+        Initial :math:`l`, in [0.1, 1] m.
+    theta : float
+        Initial start heading, in [-3.14, 3.14] rad (clockwise).
+
+    Returns
+    -------
+    widget : LiveWidget
+    """
+    sliders = [
+        Slider("ssx", "s_sx [m] (left)", _in_range(s_sx, "s_sx", -1, 1.5), -1.0, 1.5, 0.01),
+        Slider("sdx", "s_dx [m] (right)", _in_range(s_dx, "s_dx", -1, 1.5), -1.0, 1.5, 0.01),
+        Slider("l", "l [m]", _in_range(wheelbase, "wheelbase", 0.1, 1), 0.1, 1.0, 0.01),
+        Slider(
+            "theta", "θ start [rad]", _in_range(theta, "theta", -3.14, 3.14), -3.14, 3.14, 0.01
+        ),
+    ]
+    return live_widget(
+        "cir",
+        sliders,
+        title="One step about the CIR (the report's eqs. 2–8)",
+        caption=(
+            "Grey: the robot's axle and heading before the step, black: after it (the heading "
+            "θ is clockwise, as in the report). Green and orange: the paths of the left and the "
+            "right wheel; dashed: the middle of the axle. Red cross: the CIR, r from the right "
+            "wheel and ρ = r + l/2 from the middle of the axle; red lines: its radii to the "
+            "middle of the axle before and after. The view grows with the step; “fit view” "
+            "zooms back in."
+        ),
+        aria_label=(
+            "Plot in the x-y plane of one differential-drive step about the centre of "
+            "instantaneous rotation: the robot before and after, both wheel paths, the CIR and "
+            "its radii."
+        ),
+        draws={},
+        n_particles=0,
+        width=620,
+        height=500,
     )

@@ -489,3 +489,12 @@ __all__ += [
     "particle_filter_live",
     "velocity_model_live",
 ]
+
+# ---- live widgets of the Turkish lecture's noise forms and the CIR report's step (issue 17) ----
+from ._live import (  # noqa: E402
+    cir_step_live,
+    odometry_noise_forms_live,
+    velocity_noise_forms_live,
+)
+
+__all__ += ["cir_step_live", "odometry_noise_forms_live", "velocity_noise_forms_live"]

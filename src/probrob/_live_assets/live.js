@@ -19,6 +19,16 @@
 // labels(p) -> {x, y} names the axes (see distribution.js).
 // where p holds every slider and choice value by name, plus p.logProb(a, b2), the log of the
 // zero-mean density of Table 5.2 chosen by p.distribution (default "normal").
+// A kernel with panels: k (k > 1) draws k clouds side by side in one view (the same draws, the
+// same grey scale): panel j is the kernel at the parameters panel(p, j), titled title(panel(p, j))
+// (see noise_forms.js). The test hook's particles are then (k*n, 3), panel after panel, and its
+// density (k*ny, nx).
+// A kernel with kind: "scene" draws a construction instead of a cloud (no samples, no density;
+// see cir.js): scene(p) -> {values: {name: number | Float64Array}, points: [[x, y], ...]} (the
+// view holds the points), drawScene(ctx, p, values, sx, sy, box) draws it (box: the plot's
+// {left, top, size} and the canvas's right edge, in CSS pixels; the kernel clips what may leave
+// the plot, and may put a legend right of it), title(p) above it. The test hook's state then
+// has scene: every value as base64 float64 (a number as one element).
 
 const kernels = {};
 
@@ -165,8 +175,11 @@ function mountLiveWidget(root, config, kernel) {
   const pixels = imageCtx.createImageData(nx, ny);
 
   const curve = kernel.kind === "curve";
-  const particles = new Float64Array(curve ? n : n * 3);
-  const density = new Float64Array(nx * ny);
+  const isScene = kernel.kind === "scene";
+  const panels = kernel.panels || 1;
+  let sceneValues = {};
+  const particles = new Float64Array(curve ? n : panels * n * 3);
+  const density = new Float64Array(panels * nx * ny);
   const xs = new Float64Array(nx);
   const ys = new Float64Array(ny);
   const values = {};
@@ -200,9 +213,9 @@ function mountLiveWidget(root, config, kernel) {
 
   // The box of probrob.plotting.motion_extent: central 99 % of the cloud, both poses, padded.
   function fitBox(markers) {
-    const px = new Float64Array(n);
-    const py = new Float64Array(n);
-    for (let i = 0; i < n; i++) {
+    const px = new Float64Array(panels * n);
+    const py = new Float64Array(panels * n);
+    for (let i = 0; i < panels * n; i++) {
       px[i] = particles[3 * i];
       py[i] = particles[3 * i + 1];
     }
@@ -238,9 +251,28 @@ function mountLiveWidget(root, config, kernel) {
     }
   }
 
+  // the parameters of each panel (one panel: p itself)
+  function panelParams(p) {
+    if (panels === 1) return [p];
+    return Array.from({ length: panels }, (_, k) => kernel.panel(p, k));
+  }
   function compute(refit) {
     const p = params();
-    kernel.sample(p, draws[p.family], n, particles, draws);
+    if (isScene) {
+      const out = kernel.scene(p);
+      sceneValues = out.values;
+      const px = out.points.map((q) => q[0]);
+      const py = out.points.map((q) => q[1]);
+      const cx = (Math.min(...px) + Math.max(...px)) / 2;
+      const cy = (Math.min(...py) + Math.max(...py)) / 2;
+      const half = Math.max(((Math.max(...px) - Math.min(...px)) / 2) * 1.15, ((Math.max(...py) - Math.min(...py)) / 2) * 1.15, 0.25);
+      updateView([cx - half, cx + half, cy - half, cy + half], refit);
+      return { p, markers: [] };
+    }
+    const ps = panelParams(p);
+    for (let k = 0; k < panels; k++) {
+      kernel.sample(ps[k], draws[p.family], n, particles.subarray(3 * n * k, 3 * n * (k + 1)), draws);
+    }
     if (curve) {
       view = [...kernel.xRange(p), 0, 0];
       const dx = (view[1] - view[0]) / nx;
@@ -255,13 +287,16 @@ function mountLiveWidget(root, config, kernel) {
     for (let j = 0; j < nx; j++) xs[j] = view[0] + (j + 0.5) * dx;
     for (let i = 0; i < ny; i++) ys[i] = view[2] + (i + 0.5) * dy;
     hypothesisHeading = kernel.heading(p);
-    kernel.density(p, xs, ys, hypothesisHeading, density);
-    return { p, markers };
+    for (let k = 0; k < panels; k++) {
+      kernel.density(ps[k], xs, ys, hypothesisHeading, density.subarray(nx * ny * k, nx * ny * (k + 1)));
+    }
+    return { p, ps, markers };
   }
 
   // ---- drawing ------------------------------------------------------------------------
   const M = { left: 62, top: 34, right: 118, bottom: 48 };
-  const S = Math.min(W - M.left - M.right, H - M.top - M.bottom);
+  const GAP = 14; // between panels, which share the y axis (its labels on the first only)
+  const S = Math.min((W - M.left - M.right - (panels - 1) * GAP) / panels, H - M.top - M.bottom);
 
   function arrow(x, y, th, length, color, sx, sy) {
     const x0 = sx(x);
@@ -287,14 +322,16 @@ function mountLiveWidget(root, config, kernel) {
     ctx.fill();
   }
 
-  // A plot box of PW x PH pixels at (M.left, M.top) for [x0, x1] x [y0, y1]: frame, ticks,
-  // axis labels and title; returns the maps from data to pixels.
-  function frame(x0, x1, y0, y1, PW, PH, xlabel, ylabel, title) {
-    const sx = (x) => M.left + ((x - x0) / (x1 - x0)) * PW;
+  // A plot box of PW x PH pixels at (M.left + offset, M.top) for [x0, x1] x [y0, y1]: frame, ticks,
+  // axis labels and title (a panel right of the first, offset > 0, shares its y labels);
+  // returns the maps from data to pixels.
+  function frame(x0, x1, y0, y1, PW, PH, xlabel, ylabel, title, offset) {
+    const left = M.left + (offset || 0);
+    const sx = (x) => left + ((x - x0) / (x1 - x0)) * PW;
     const sy = (y) => M.top + PH - ((y - y0) / (y1 - y0)) * PH;
     ctx.strokeStyle = "#000";
     ctx.lineWidth = 1;
-    ctx.strokeRect(M.left + 0.5, M.top + 0.5, PW, PH);
+    ctx.strokeRect(left + 0.5, M.top + 0.5, PW, PH);
     ctx.fillStyle = "#000";
     ctx.font = "12px sans-serif";
     ctx.textAlign = "center";
@@ -304,24 +341,26 @@ function mountLiveWidget(root, config, kernel) {
       ctx.fillRect(X, M.top + PH, 1, 5);
       ctx.fillText(fmtTick(t), X, M.top + PH + 7);
     }
-    ctx.fillText(xlabel, M.left + PW / 2, M.top + PH + 26);
+    ctx.fillText(xlabel, left + PW / 2, M.top + PH + 26);
     ctx.textAlign = "right";
     ctx.textBaseline = "middle";
     for (const t of niceTicks(y0, y1, 5)) {
       const Y = sy(t);
-      ctx.fillRect(M.left - 5, Y, 5, 1);
-      ctx.fillText(fmtTick(t), M.left - 7, Y);
+      ctx.fillRect(left - 5, Y, 5, 1);
+      if (!offset) ctx.fillText(fmtTick(t), left - 7, Y);
     }
-    ctx.save();
-    ctx.translate(16, M.top + PH / 2);
-    ctx.rotate(-Math.PI / 2);
-    ctx.textAlign = "center";
-    ctx.fillText(ylabel, 0, 0);
-    ctx.restore();
+    if (!offset) {
+      ctx.save();
+      ctx.translate(left - 46, M.top + PH / 2);
+      ctx.rotate(-Math.PI / 2);
+      ctx.textAlign = "center";
+      ctx.fillText(ylabel, 0, 0);
+      ctx.restore();
+    }
     ctx.textAlign = "center";
     ctx.textBaseline = "bottom";
     ctx.font = "13px sans-serif";
-    ctx.fillText(title, M.left + PW / 2, M.top - 10);
+    ctx.fillText(title, left + PW / 2, M.top - 10);
     return [sx, sy];
   }
 
@@ -369,69 +408,81 @@ function mountLiveWidget(root, config, kernel) {
       return;
     }
     const [x0, x1, y0, y1] = view;
-    const sx = (x) => M.left + ((x - x0) / (x1 - x0)) * S;
-    const sy = (y) => M.top + S - ((y - y0) / (y1 - y0)) * S;
-
+    if (isScene) {
+      const sx = (x) => M.left + ((x - x0) / (x1 - x0)) * S;
+      const sy = (y) => M.top + S - ((y - y0) / (y1 - y0)) * S;
+      kernel.drawScene(ctx, p, sceneValues, sx, sy, { left: M.left, top: M.top, size: S, right: W });
+      frame(x0, x1, y0, y1, S, S, "x [m]", "y [m]", kernel.title(p));
+      return;
+    }
+    const ps = state.ps;
     // density image (grey, darker is more probable; linear from 0 to the 99.5th percentile,
-    // as probrob.plotting.plot_density_xy)
+    // as probrob.plotting.plot_density_xy; one grey scale for all panels)
     let vmax = percentile(density, 99.5);
     if (!(vmax > 0)) vmax = 1;
-    const px = pixels.data;
-    for (let i = 0; i < ny; i++) {
-      const row = (ny - 1 - i) * nx;
-      for (let j = 0; j < nx; j++) {
-        let v = density[i * nx + j];
-        if (Number.isNaN(v)) v = 0;
-        const g = Math.round(255 * (1 - Math.min(v / vmax, 1)));
-        const k = 4 * (row + j);
-        px[k] = g;
-        px[k + 1] = g;
-        px[k + 2] = g;
-        px[k + 3] = 255;
+    for (let panel = 0; panel < panels; panel++) {
+      const ox = panel * (S + GAP);
+      const sx = (x) => M.left + ox + ((x - x0) / (x1 - x0)) * S;
+      const sy = (y) => M.top + S - ((y - y0) / (y1 - y0)) * S;
+      const d0 = panel * nx * ny;
+      const p0 = panel * n * 3;
+      const px = pixels.data;
+      for (let i = 0; i < ny; i++) {
+        const row = (ny - 1 - i) * nx;
+        for (let j = 0; j < nx; j++) {
+          let v = density[d0 + i * nx + j];
+          if (Number.isNaN(v)) v = 0;
+          const g = Math.round(255 * (1 - Math.min(v / vmax, 1)));
+          const k = 4 * (row + j);
+          px[k] = g;
+          px[k + 1] = g;
+          px[k + 2] = g;
+          px[k + 3] = 255;
+        }
       }
-    }
-    imageCtx.putImageData(pixels, 0, 0);
-    ctx.imageSmoothingEnabled = false;
-    ctx.drawImage(image, M.left, M.top, S, S);
+      imageCtx.putImageData(pixels, 0, 0);
+      ctx.imageSmoothingEnabled = false;
+      ctx.drawImage(image, M.left + ox, M.top, S, S);
 
-    // samples, and the heading of the first few
-    ctx.save();
-    ctx.beginPath();
-    ctx.rect(M.left, M.top, S, S);
-    ctx.clip();
-    // one path for all dots: one fill call instead of n (the canvas's cost is per call)
-    ctx.fillStyle = "rgba(214, 39, 40, 0.6)";
-    ctx.beginPath();
-    for (let i = 0; i < n; i++) {
-      ctx.rect(sx(particles[3 * i]) - 1.2, sy(particles[3 * i + 1]) - 1.2, 2.4, 2.4);
-    }
-    ctx.fill();
-    const len = 0.04 * (x1 - x0);
-    ctx.strokeStyle = "rgba(214, 39, 40, 0.8)";
-    ctx.lineWidth = 1;
-    ctx.beginPath();
-    for (let i = 0; i < Math.min(config.headings, n); i++) {
-      const x = particles[3 * i];
-      const y = particles[3 * i + 1];
-      const th = particles[3 * i + 2];
-      ctx.moveTo(sx(x), sy(y));
-      ctx.lineTo(sx(x + len * Math.cos(th)), sy(y + len * Math.sin(th)));
-    }
-    ctx.stroke();
-    for (const m of markers) {
-      if (m.theta === null) {
-        ctx.fillStyle = m.color;
-        ctx.fillRect(sx(m.x) - 5, sy(m.y) - 5, 10, 10);
-      } else {
-        arrow(m.x, m.y, m.theta, 0.08 * (x1 - x0), m.color, sx, sy);
+      // samples, and the heading of the first few
+      ctx.save();
+      ctx.beginPath();
+      ctx.rect(M.left + ox, M.top, S, S);
+      ctx.clip();
+      // one path for all dots: one fill call instead of n (the canvas's cost is per call)
+      ctx.fillStyle = "rgba(214, 39, 40, 0.6)";
+      ctx.beginPath();
+      for (let i = 0; i < n; i++) {
+        ctx.rect(sx(particles[p0 + 3 * i]) - 1.2, sy(particles[p0 + 3 * i + 1]) - 1.2, 2.4, 2.4);
       }
-    }
-    ctx.restore();
+      ctx.fill();
+      const len = 0.04 * (x1 - x0);
+      ctx.strokeStyle = "rgba(214, 39, 40, 0.8)";
+      ctx.lineWidth = 1;
+      ctx.beginPath();
+      for (let i = 0; i < Math.min(config.headings, n); i++) {
+        const x = particles[p0 + 3 * i];
+        const y = particles[p0 + 3 * i + 1];
+        const th = particles[p0 + 3 * i + 2];
+        ctx.moveTo(sx(x), sy(y));
+        ctx.lineTo(sx(x + len * Math.cos(th)), sy(y + len * Math.sin(th)));
+      }
+      ctx.stroke();
+      for (const m of markers) {
+        if (m.theta === null) {
+          ctx.fillStyle = m.color;
+          ctx.fillRect(sx(m.x) - 5, sy(m.y) - 5, 10, 10);
+        } else {
+          arrow(m.x, m.y, m.theta, 0.08 * (x1 - x0), m.color, sx, sy);
+        }
+      }
+      ctx.restore();
 
-    frame(x0, x1, y0, y1, S, S, "x [m]", "y [m]", kernel.title(p));
+      frame(x0, x1, y0, y1, S, S, "x [m]", "y [m]", kernel.title(ps[panel]), ox);
+    }
 
     // colour bar
-    const cbx = M.left + S + 16;
+    const cbx = M.left + panels * S + (panels - 1) * GAP + 16;
     const grad = ctx.createLinearGradient(0, M.top + S, 0, M.top);
     grad.addColorStop(0, "#fff");
     grad.addColorStop(1, "#000");
@@ -549,7 +600,11 @@ function mountLiveWidget(root, config, kernel) {
         n,
         nx,
         ny,
-        markers: curve ? [] : kernel.markers(p),
+        markers: curve || isScene ? [] : kernel.markers(p),
+        panels,
+        scene: Object.fromEntries(
+          Object.entries(sceneValues).map(([k, v]) => [k, encodeFloat64(typeof v === "number" ? Float64Array.of(v) : v)])
+        ),
         theta: hypothesisHeading,
         view: view.slice(),
         xs: encodeFloat64(xs),
