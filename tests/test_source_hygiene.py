@@ -66,3 +66,21 @@ def test_the_library_refers_to_no_file_outside_the_repository(path):
     text = path.read_text(encoding="utf-8")
     assert "DESIGN.md" not in text
     assert "../shared" not in text
+
+
+CONFLICT_MARKER = re.compile(r"^(<{7}|>{7}) |^={7}$", re.M)
+
+
+def test_no_merge_conflict_markers_left_anywhere():
+    """A merge committed with its conflict unresolved (``<<<<<<<`` lines) fails here, not in
+    the notebook runner that cannot parse the file."""
+    suffixes = {".py", ".md", ".ipynb", ".yml", ".toml", ".txt", ".js", ".css", ".bib", ".cfg"}
+    found = [
+        str(path.relative_to(ROOT))
+        for path in ROOT.rglob("*")
+        if path.is_file()
+        and path.suffix in suffixes
+        and not {".git", ".venv", "_build", "node_modules"} & set(path.relative_to(ROOT).parts)
+        and CONFLICT_MARKER.search(path.read_text(encoding="utf-8", errors="replace"))
+    ]
+    assert found == []
