@@ -200,3 +200,35 @@ def test_table_index_names_functions_whose_docstring_cites_the_table(table):
     sections = chapter_sections()
     for label in labels:
         assert label in sections, f"Table {table}: no label ({label})= in a chapter"
+
+
+def test_the_intros_chapter_numbers_follow_the_toc():
+    numbered = next(p for p in toc_parts() if p.get("numbered"))["chapters"]
+    number = {c["file"].split("/")[-1]: k + 1 for k, c in enumerate(numbered)}
+    text = page("intro.md")
+    named = {
+        "trabalho3_motion_models": r"chapter 1, \*Motion models\* \(Trabalho 3\)",
+        "mrclam_motion_noise": r"chapter \*\*(\d)\*\* \(MRCLAM\)",
+        "trabalho4_measurement_models": r"chapter \*\*(\d)\*\* \(Trabalho 4\)",
+        "trabalho5_localization": r"chapter \*\*(\d)\*\* \(Trabalho 5\)",
+        "mcl_intel_lab": r"chapter \*\*(\d)\*\* \(Monte Carlo localization\)",
+    }
+    assert re.search(named.pop("trabalho3_motion_models"), text)
+    assert number["trabalho3_motion_models"] == 1
+    for stem, pattern in named.items():
+        (found,) = re.findall(pattern, text)
+        assert int(found) == number[stem], stem
+    # the source-deck table names each deck's chapter by its number
+    rows = re.findall(r'^\| "([^"]+)" \| \w+ \| [^|]+ \| (\d) \|$', _raw("intro.md"), flags=re.M)
+    decks = {
+        "Trabalho 3": "trabalho3_motion_models",
+        "Olasılıksal Robotik": "turkish_lecture_motion",
+        "Assignment Submission 1.1": "cir_odometry",
+        "Trabalho 4": "trabalho4_measurement_models",
+        "Trabalho #5": "trabalho5_localization",
+    }
+    assert {deck: int(n) for deck, n in rows} == {d: number[s] for d, s in decks.items()}
+
+
+def _raw(name):
+    return (BOOK / name).read_text(encoding="utf-8")
