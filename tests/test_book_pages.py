@@ -174,6 +174,45 @@ def test_intro_lists_every_chapter_and_five_decks():
     assert re.search(r"chapters 5–7", text)
 
 
+def _chapter_rows():
+    """(notebook, read minutes, run seconds) of each row of the intro's chapter table."""
+    return re.findall(
+        r"\| \{doc\}`\.\./notebooks/(\w+)` \|[^|]+\|[^|]+\| about (\d+) min \| (\d+) s \|",
+        page("intro.md"),
+    )
+
+
+def test_intro_reading_times_are_the_word_counts_at_150_a_minute():
+    import nbformat
+
+    rows = _chapter_rows()
+    assert {name for name, _, _ in rows} == {p.stem for p in (ROOT / "notebooks").glob("*.ipynb")}
+    assert "at 150 words a minute" in page("intro.md")
+    for name, minutes, _ in rows:
+        nb = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
+        prose = " ".join(c.source for c in nb.cells if c.cell_type == "markdown")
+        prose = re.sub(r"```.*?```", "", prose, flags=re.S)  # display equations, directives
+        words = len(prose.split())
+        # "about N min": the reading time rounded to 5 minutes
+        assert int(minutes) == 5 * round(words / 150 / 5), (name, words, minutes)
+
+
+def test_intro_says_how_run_times_were_measured_and_names_the_ways_to_read():
+    # The run times are one measurement on a loaded machine, which no test can recompute;
+    # the page must say so.
+    text = page("intro.md")
+    assert "one execution of every cell of the notebook" in text and "load average" in text
+    for way in ("**As a web book**", "**In JupyterLab, with live sliders.**", "**As a library.**"):
+        assert way in text
+    assert "`make lab`" in text
+    decks = re.findall(
+        r"^\| \"([^\"]+)\" \| (Portuguese|Turkish|Italian) \|",
+        (BOOK / "intro.md").read_text(encoding="utf-8"),
+        flags=re.M,
+    )
+    assert len(decks) == 5, decks
+
+
 # ------------------------------------------------------------------------ conventions.md
 
 
