@@ -1236,24 +1236,10 @@ def velocity_noise_forms_live(
         ),
         *_alpha_sliders(alpha, 6),
     ]
-    return live_widget(
-        "velocity_forms",
-        sliders,
-        _forms_choices(distribution, density, pairing),
+    return _noise_forms_widget(
+        "velocity", sliders, distribution, density, pairing, n_particles, grid, rng,
         title="Velocity model, the two noise forms (Tables 5.1 and 5.3)",
-        caption=_FORMS_CAPTION.format(n=n_particles, grid=grid),
-        aria_label=(
-            "Two plots of the velocity motion model in the x-y plane, side by side: the "
-            "standard-deviation noise form on the left and the variance form on the right, each "
-            "a cloud of sampled end poses over a grey density image."
-        ),
-        n_particles=n_particles,
-        grid=grid,
-        rng=rng,
-        width=660,
-        height=316,
-        requires=("velocity", "noise_forms"),
-    )
+    )  # fmt: skip
 
 
 def odometry_noise_forms_live(
@@ -1300,14 +1286,24 @@ def odometry_noise_forms_live(
         ),
         *_alpha_sliders(alpha, 4),
     ]
+    return _noise_forms_widget(
+        "odometry", sliders, distribution, density, pairing, n_particles, grid, rng,
+        title="Odometry model, the two noise forms (Tables 5.5 and 5.6)",
+    )  # fmt: skip
+
+
+def _noise_forms_widget(
+    model, sliders, distribution, density, pairing, n_particles, grid, rng, *, title
+):
+    """The two-panel widget of ``model``'s kernel ("velocity" or "odometry") in both noise forms."""
     return live_widget(
-        "odometry_forms",
+        f"{model}_forms",
         sliders,
         _forms_choices(distribution, density, pairing),
-        title="Odometry model, the two noise forms (Tables 5.5 and 5.6)",
+        title=title,
         caption=_FORMS_CAPTION.format(n=n_particles, grid=grid),
         aria_label=(
-            "Two plots of the odometry motion model in the x-y plane, side by side: the "
+            f"Two plots of the {model} motion model in the x-y plane, side by side: the "
             "standard-deviation noise form on the left and the variance form on the right, each "
             "a cloud of sampled end poses over a grey density image."
         ),
@@ -1316,7 +1312,7 @@ def odometry_noise_forms_live(
         rng=rng,
         width=660,
         height=316,
-        requires=("odometry", "noise_forms"),
+        requires=(model, "noise_forms"),
     )
 
 
