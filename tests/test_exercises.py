@@ -8,6 +8,7 @@ for a file without one, found by name in its source.
 """
 
 import ast
+import re
 import importlib
 import importlib.util
 import inspect
@@ -74,36 +75,143 @@ def _outputs(cell):
     return "".join(o.get("text", "") for o in cell.outputs if o.output_type == "stream")
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
-def test_every_exercise_starts_unsolved_and_has_a_collapsed_solution(path):
-    """Each solution cell (tag ``exercise-solution``) is collapsed (``hide-cell`` or
-    ``hide-input``) and prints
-    "<Exercise>: correct" (nbval re-runs it and compares); an earlier cell, the check of the
-    reader's answer as shipped, prints "<Exercise>: not yet" (the book shows it unsolved)."""
-    cells = [c for c in nbformat.read(path, as_version=4).cells if c.cell_type == "code"]
+def _tags(cell):
+    return set(cell.metadata.get("tags", []))
+
+
+# A solution is a markdown cell, so that JupyterLab's Run All never runs it: a collapsed
+# "Solution to Exercise N" box holding one Python block (and, after it, any explanation).
+SOLUTION = re.compile(
+    r"\A:::\{dropdown\} Solution to (?P<name>Exercise \d+)\n"
+    r"```python\n(?P<code>.*?)\n```\n(?P<prose>.*?):::\s*\Z",
+    re.S,
+)
+
+
+def solutions(path):
+    """``[(exercise name, solution code), ...]`` of a notebook, in order, each right after its
+    check cell; fails if a solution is not of the form :data:`SOLUTION` describes."""
+    cells = nbformat.read(path, as_version=4).cells
+    found = []
     for k, cell in enumerate(cells):
-        if "exercise-solution" not in cell.metadata.get("tags", []):
+        if "exercise-solution" not in _tags(cell):
             continue
-        assert {"hide-cell", "hide-input"} & set(cell.metadata["tags"]), cell.source
-        out = _outputs(cell)
-        solved = [line.split(": correct")[0] for line in out.splitlines() if ": correct" in line]
-        assert solved and "not yet" not in out, cell.source
-        unsolved = [_outputs(c) for c in cells[:k]]
-        for name in solved:
-            assert any(f"{name}: not yet" in text for text in unsolved), (name, path.name)
-    for cell in cells:
-        if "exercise-check" in cell.metadata.get("tags", []):
-            assert "not yet" in _outputs(cell), cell.source
+        assert cell.cell_type == "markdown", (
+            f"{path.name}: cell {k} is a solution in a {cell.cell_type} cell: Run All would run "
+            "it; make it a markdown ':::{dropdown} Solution to Exercise N' box"
+        )
+        m = SOLUTION.match(cell.source)
+        assert m, f"{path.name}: cell {k} is not a 'Solution to Exercise N' box: {cell.source!r}"
+        assert "```" not in m["prose"], f"{path.name}: cell {k} holds more than one code block"
+        before = cells[k - 1]
+        assert "exercise-check" in _tags(before), (
+            f"{path.name}: the solution in cell {k} does not follow its check cell"
+        )
+        assert f'check("{m["name"]}"' in before.source, (path.name, k, m["name"])
+        assert f'check("{m["name"]}"' in m["code"], (
+            f"{path.name}: the solution to {m['name']} does not end with its check"
+        )
+        found.append((m["name"], m["code"]))
+    return found
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_every_exercise_starts_unsolved_and_has_a_solution_out_of_run_all(path):
+    """Each check cell prints "<Exercise>: not yet" as shipped (the stored output, which nbval
+    reproduces), and is followed by its solution, a collapsed markdown box that Run All does not
+    run (tests/test_exercise_solutions.py runs each solution and requires "correct")."""
+    cells = nbformat.read(path, as_version=4).cells
+    checks = [c for c in cells if "exercise-check" in _tags(c)]
+    for cell in checks:
+        assert cell.cell_type == "code" and "not yet" in _outputs(cell), cell.source
+    names = [name for name, _ in solutions(path)]
+    assert len(names) == len(checks) == len(set(names)), (path.name, names, len(checks))
+
+
+def _placeholder(node):
+    """A value that gives nothing away: None, ``...``, or a tuple/list of them."""
+    if isinstance(node, ast.Constant):
+        return node.value is None or node.value is Ellipsis
+    if isinstance(node, ast.Tuple | ast.List):
+        return all(_placeholder(e) for e in node.elts)
+    return False
+
+
+def _given(node):
+    """Data a check may be given (``partial(ch.exercise_2, pose=x0, fit=fits["a", 1].alpha)``):
+    names, constants, their items and attributes; never a call or arithmetic, which could
+    compute the answer."""
+    if isinstance(node, ast.Name | ast.Constant):
+        return True
+    if isinstance(node, ast.Tuple):
+        return all(_given(e) for e in node.elts)
+    if isinstance(node, ast.Attribute):
+        return _given(node.value)
+    if isinstance(node, ast.Subscript):
+        return _given(node.value) and _given(node.slice)
+    return False
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_check_cells_hold_no_answer(path):
+    """A check cell is ``check("Exercise N", answer, test=ch.exercise_N)`` (or a ``partial`` of
+    given data) and nothing else; the latest cell before it that sets ``answer`` sets it to a
+    placeholder (``None``), so the notebook as shipped does not hold the answer."""
+    cells = nbformat.read(path, as_version=4).cells
+    for k, cell in enumerate(cells):
+        if "exercise-check" not in _tags(cell):
+            continue
+        body = ast.parse(cell.source).body
+        assert len(body) == 1 and isinstance(body[0], ast.Expr), (path.name, cell.source)
+        call = body[0].value
+        assert isinstance(call, ast.Call) and getattr(call.func, "id", None) == "check", (
+            path.name,
+            cell.source,
+        )
+        assert len(call.args) == 2 and isinstance(call.args[0], ast.Constant), cell.source
+        assert isinstance(call.args[1], ast.Name), (
+            f"{path.name}: the check's answer must be the reader's variable: {cell.source!r}"
+        )
+        assert [kw.arg for kw in call.keywords] == ["test"], cell.source
+        test = call.keywords[0].value
+        if isinstance(test, ast.Call):
+            assert getattr(test.func, "id", None) == "partial", cell.source
+            given = test.args[1:] + [kw.value for kw in test.keywords]
+            assert all(_given(g) for g in given), (
+                f"{path.name}: a check computes something from given data: {cell.source!r}"
+            )
+        name = call.args[1].id
+        setters = []
+        for c in cells[:k]:
+            if c.cell_type != "code" or "exercise-solution" in _tags(c):
+                continue
+            try:
+                tree = ast.parse(c.source)
+            except SyntaxError:
+                continue
+            for node in ast.walk(tree):
+                if isinstance(node, ast.Assign) and any(
+                    isinstance(t, ast.Name) and t.id == name for t in node.targets
+                ):
+                    setters.append(node.value)
+                elif isinstance(node, ast.FunctionDef) and node.name == name:
+                    setters.append(node)  # the reader writes a function (its stub fails)
+        assert setters, f"{path.name}: {name} is never set before its check"
+        if isinstance(setters[-1], ast.FunctionDef):
+            continue  # a stub: the stored "not yet" of the check shows it is not the answer
+        assert _placeholder(setters[-1]), (
+            f"{path.name}: {name} is set to {ast.unparse(setters[-1])!r} before its check, "
+            "not to a placeholder (None): the notebook would hold the answer"
+        )
 
 
 def test_the_motion_chapter_has_at_least_five_exercises():
     path = next(p for p in NOTEBOOKS if p.stem == "trabalho3_motion_models")
-    cells = nbformat.read(path, as_version=4).cells
-    solutions = [c for c in cells if "exercise-solution" in c.metadata.get("tags", [])]
-    assert len(solutions) >= 5
+    codes = [code for _, code in solutions(path)]
+    assert len(codes) >= 5
     # at least two solutions are code that calls the library's models
     models = ("motion_model_", "sample_motion_model_", "velocity_motion(")
-    assert sum(any(m in c.source for m in models) for c in solutions) >= 2
+    assert sum(any(m in code for m in models) for code in codes) >= 2
 
 
 def _tagged(path, tag):
@@ -176,9 +284,9 @@ def _check_functions(path):
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_every_chapter_has_at_least_four_exercises(path):
-    checks, solutions = _tagged(path, "exercise-check"), _tagged(path, "exercise-solution")
+    checks, solved = _tagged(path, "exercise-check"), solutions(path)
     assert len(checks) >= 4, f"{path.name}: {len(checks)} check cells, at least 4 needed"
-    assert len(solutions) >= 4, f"{path.name}: {len(solutions)} solutions, at least 4 needed"
+    assert len(solved) >= 4, f"{path.name}: {len(solved)} solutions, at least 4 needed"
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)

@@ -12,12 +12,13 @@ The book's exercise pattern (every chapter copies it):
    it prints ``Exercise 3: correct`` or what is wrong, and never raises, so that nbval and
    the book build stay green while the exercise is unsolved (as shipped it prints
    ``Exercise 3: not yet — ...``);
-4. the **solution**: a code cell tagged ``exercise-solution`` and ``hide-cell`` (code and
-   output collapsed in the book, so the printed answer is hidden too; ``hide-input``
-   collapses only the code) that computes the answer and calls the same check, which
-   prints ``correct``. nbval re-runs it, so the tests prove that every exercise is solvable
-   (``tests/test_exercises.py`` also checks that every solution prints "correct", is
-   collapsed, and follows a check that prints "not yet" for the same exercise).
+4. the **solution**, right after the check: a markdown cell (tag ``exercise-solution``)
+   holding a collapsed box, ``:::{dropdown} Solution to Exercise 3``, with the code that
+   computes the answer and calls the same check. Being markdown, it is not run by
+   JupyterLab's *Run All* (the reader's exercise stays the reader's), and the book shows it
+   collapsed. ``tests/test_exercises.py`` checks this form and that the check cell holds no
+   answer; ``tests/test_exercise_solutions.py`` runs every chapter with each solution pasted
+   in after its check and requires "correct", so every exercise is known to be solvable.
 
 ``check`` returns nothing (a trailing ``;`` does not silence a value under nbval);
 :func:`verdict` returns the printed line.

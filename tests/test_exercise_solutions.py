@@ -1,0 +1,66 @@
+"""Every exercise's solution, run: each chapter executed afresh with each solution's code inserted
+as a cell right after its check cell, as a reader pasting it would, and each must print
+"<Exercise>: correct".
+
+The stored chapters keep their solutions in collapsed markdown boxes, out of the way of
+JupyterLab's Run All (``tests/test_exercises.py`` checks that form), so nbval never runs them;
+this test is what proves that each exercise can be solved and that its solution is right.
+It executes every chapter once more (about as long as nbval).
+"""
+
+import os
+import sys
+from pathlib import Path
+
+import nbformat
+import pytest
+from nbclient import NotebookClient
+from test_exercises import NOTEBOOKS, solutions
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "_ext"))
+import probrob_zmq_wakeup  # noqa: E402  (a kernel reply is read within 1 s, not at the timeout)
+
+probrob_zmq_wakeup.install()
+
+CELL_TIMEOUT = 120  # s, the Makefile's CELL_TIMEOUT (tests/test_tooling.py keeps them equal)
+
+
+def _with_solutions(path):
+    """The chapter with each solution's code as a code cell after its check cell, and the
+    indices of those cells: ``(notebook, {index: exercise name})``."""
+    nb = nbformat.read(path, as_version=4)
+    code = dict(solutions(path))
+    cells, inserted = [], {}
+    for cell in nb.cells:
+        if "exercise-solution" in cell.metadata.get("tags", []):
+            continue
+        cells.append(cell)
+        if "exercise-check" in cell.metadata.get("tags", []):
+            name = next(n for n in code if f'check("{n}"' in cell.source)
+            inserted[len(cells)] = name
+            cells.append(nbformat.v4.new_code_cell(code.pop(name)))
+    assert not code, f"{path.name}: solutions without a check cell: {sorted(code)}"
+    nb.cells = cells
+    return nb, inserted
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_every_solution_prints_correct(path):
+    nb, inserted = _with_solutions(path)
+    assert len(inserted) >= 4, path.name
+    env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}  # the kernel's own backend
+    client = NotebookClient(
+        nb,
+        timeout=CELL_TIMEOUT,
+        startup_timeout=60,
+        kernel_name=nb.metadata.get("kernelspec", {}).get("name", "python3"),
+        resources={"metadata": {"path": str(path.parent)}},
+    )
+    client.execute(env=env)  # a cell that raises fails the test, naming the cell
+    wrong = []
+    for k, name in inserted.items():
+        out = "".join(o.get("text", "") for o in nb.cells[k].outputs if o.output_type == "stream")
+        if f"{name}: correct" not in out or "not yet" in out:
+            wrong.append(f"{name}: {out.strip()[-300:]!r}")
+    assert not wrong, f"{path.name}: solutions that are not correct: {wrong}"
