@@ -8,10 +8,10 @@ for a file without one, found by name in its source.
 """
 
 import ast
-import re
 import importlib
 import importlib.util
 import inspect
+import re
 from pathlib import Path
 
 import nbformat
