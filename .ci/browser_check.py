@@ -582,7 +582,8 @@ def _check_view(
         if state != "ok":
             f.add("math", state)
     not_ready = p.js(JS_LIVE_READY % 10000, timeout=30)
-    time.sleep(0.5)  # the players start from a setTimeout(0) after load
+    if view.full:
+        time.sleep(0.5)  # the players start from a setTimeout(0) after load
     info = p.js(JS_SURVEY)
 
     # Math and images (every view: a phone must typeset and load them too)
@@ -724,8 +725,9 @@ def take_screenshots(p: Page, page: str, view: View, info: dict, shots: Path, ar
         parts = [(0, 0)]
         height = view.height
     for part, top in parts:
-        p.js(f"window.scrollTo(0, {top})")
-        time.sleep(0.5)
+        if view.full or top:
+            p.js(f"window.scrollTo(0, {top})")
+            time.sleep(0.5)
         shot = p.send("Page.captureScreenshot", {"format": "png"}, timeout=120)
         out = shots / (stem + (f"-{part + 1}" if part else "") + ".png")
         out.write_bytes(base64.b64decode(shot["data"]))
