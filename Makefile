@@ -70,8 +70,19 @@ book: $(STAMP)
 check-offline:
 	$(BIN)/python .ci/check_offline.py $(HTML)
 
-browser-check: $(STAMP)
-	$(BIN)/python .ci/browser_check.py
+# The browser check's axe-core comes from npm, pinned in .ci/package.json and .ci/package-lock.json;
+# `npm ci` runs only when .ci/node_modules is missing or older than the lock file (the stamp).
+# The check first proves it can fail: the fixture .ci/fixtures/browser/defects.html plants one
+# defect of each class it checks, and the run fails unless each is reported.
+NPM_STAMP := .ci/node_modules/.installed-stamp
+$(NPM_STAMP): .ci/package.json .ci/package-lock.json
+	@command -v npm >/dev/null 2>&1 || { echo "make browser-check: npm is not installed;" \
+	  "it installs axe-core from .ci/package-lock.json (Debian: apt-get install -y npm)" >&2; exit 1; }
+	npm ci --prefix .ci --no-audit --no-fund
+	@touch $@
+
+browser-check: $(STAMP) $(NPM_STAMP)
+	$(BIN)/python .ci/browser_check.py --self-test $(BROWSER_CHECK_ARGS)
 
 # ---- tests -------------------------------------------------------------------------------
 test: lint pytest nbval
