@@ -1717,6 +1717,70 @@ API += [
     ),
 ]
 
+# the live EKF step of Trabalho 5 (issue 17; its JavaScript is tested in test_live_widgets_t5)
+API += [
+    Api(
+        widgets.ekf_step_live,
+        "widget",
+        mu=Arg(
+            lambda batch: st.tuples(
+                floats([-3.0, 0.0, 3.0], -3.0, 3.0),
+                floats([-3.0, 0.0, 3.0], -3.0, 3.0),
+                floats([-3.14, 0.0, 3.14], -3.14, 3.14),
+            ),
+            (0.0, 0.0, 0.0),
+            [((4.0, 0.0, 0.0), ValueError), ((0.0, 0.0, 3.2), ValueError), *bad_vectors(3)],
+        ),
+        prior_std=Arg(
+            lambda batch: st.tuples(*[floats([0.01, 0.2, 1.0], 0.01, 1.0)] * 3),
+            (0.15, 0.3, 0.1),
+            [((0.0, 0.1, 0.1), ValueError), ((0.1, 0.1, 2.0), ValueError), *bad_vectors(3)],
+        ),
+        u=Arg(
+            lambda batch: st.tuples(
+                floats([-2.0, 0.0, 2.0], -2.0, 2.0), floats([-2.0, 0.0, 2.0], -2.0, 2.0)
+            ),
+            (1.0, 0.4),
+            [((3.0, 0.0), ValueError), *bad_vectors(2)],
+        ),
+        dt=Arg(
+            lambda batch: floats([0.1, 1.0, 3.0], 0.01, 3.0),
+            1.0,
+            [(5.0, ValueError), *BAD_POSITIVE],
+        ),
+        alpha=Arg(
+            constant((0.05, 0.01, 0.01, 0.05)),
+            (0.05, 0.01, 0.01, 0.05),
+            [([0.6, 0.0, 0.0, 0.0], ValueError), *bad_alphas(4)],
+        ),
+        sigmas=Arg(
+            lambda batch: st.tuples(
+                floats([0.01, 1.0], 0.01, 1.0), floats([0.005, 0.5], 0.005, 0.5)
+            ),
+            (0.1, 0.05),
+            [((0.0, 0.05), ValueError), ((0.1, 0.6), ValueError), *bad_vectors(2)],
+        ),
+        landmark=Arg(
+            lambda batch: st.tuples(*[floats([-5.0, 0.0, 5.0], -5.0, 5.0)] * 2),
+            (2.5, 1.5),
+            [((6.0, 0.0), ValueError), *bad_vectors(2)],
+        ),
+        innovation=Arg(
+            lambda batch: st.tuples(
+                floats([-1.0, 0.0, 1.0], -1.0, 1.0), floats([-0.5, 0.0, 0.5], -0.5, 0.5)
+            ),
+            (0.15, -0.04),
+            [((0.0, 0.6), ValueError), *bad_vectors(2)],
+        ),
+        p=Arg(
+            lambda batch: floats([0.5, 0.95, 0.99], 0.01, 0.999),
+            0.95,
+            [(0.0, ValueError), (1.0, ValueError), *BAD_SCALAR],
+        ),
+        examples=5,
+    ),
+]
+
 # Invalid combinations that no single argument shows: (function, kwargs, names, exception).
 EXTRA_INVALID = [
     (

@@ -1,5 +1,6 @@
 """The checks of the Trabalho 5 exercises say "correct" to the right answer and "not yet" to
-the typical wrong ones (each part of a multi-part answer checked)."""
+the typical wrong ones (each part of a multi-part answer checked), and no "not yet" message
+states the right answer."""
 
 from __future__ import annotations
 
@@ -23,10 +24,24 @@ def _no(name, answer, test):
     return "not yet" in verdict(name, answer, test=test)
 
 
-def test_exercise_1_nees_band():
-    right = chi2_quantile(0.975, 150) / 50
-    assert _ok("Ex 1", right, ch.exercise_1)
-    for wrong in (
+UPPER_50 = chi2_quantile(0.975, 150) / 50
+WRAPPED, RAW = ch._exercise_2_truth()
+D_M = ch._exercise_3_dm()
+GAMMA, WM, WC = ukf_weights(9, ukf_alpha=0.5, beta=2.0, kappa=0.0)
+G7, WM7, WC7 = ukf_weights(7, ukf_alpha=0.5, beta=2.0, kappa=0.0)
+V11_RIGHT, V11_DECK = ch._exercise_5_truth()
+
+RIGHT = {
+    "exercise_1": UPPER_50,
+    "exercise_2": (WRAPPED, RAW),
+    "exercise_3": norm.cdf(D_M / 2),
+    "exercise_4": (9, GAMMA, WM[0], WC[0], WM[1]),
+    "exercise_5": (V11_RIGHT, V11_DECK),
+}
+
+# The registry that tests/test_exercises.py reads: every check, its typical wrong answers.
+WRONG_ANSWERS = {
+    "exercise_1": [
         0.0,
         chi2_quantile(0.975, 150),  # not divided by N
         chi2_quantile(0.975, 50) / 50,  # N degrees of freedom, not 3N
@@ -35,80 +50,110 @@ def test_exercise_1_nees_band():
         chi2_quantile(0.025, 150) / 50,  # the lower end
         3.0,
         "3.7",
-        [right, right],
-    ):
-        assert _no("Ex 1", wrong, ch.exercise_1), wrong
-
-
-def test_exercise_2_both_parts():
-    wrapped, raw = ch._exercise_2_truth()
-    assert wrapped == pytest.approx(-0.0278, abs=1e-4)  # the issue's value
-    assert raw == pytest.approx(5.79, abs=0.005)
-    assert _ok("Ex 2", (wrapped, raw), ch.exercise_2)
-    assert _ok("Ex 2", (round(wrapped, 6), round(raw, 5)), ch.exercise_2)
-    for wrong in (
-        (0.0, raw),  # zero
-        (0.03, raw),  # the measurement error itself
-        (-wrapped, raw),  # wrong sign
-        (raw, raw),  # the unwrapped update for (a)
-        (wrapped, 0.0),  # second part missing
-        (wrapped, wrapped),  # (b) wrapped too
-        (wrapped, -raw),
-        (wrapped, -2 * math.pi),  # the raw innovation, not the heading change
-        wrapped,  # one number only
-    ):
-        assert _no("Ex 2", wrong, ch.exercise_2), wrong
-    assert "(a)" in verdict("Ex 2", (0.0, raw), test=ch.exercise_2)
-    assert "(b)" in verdict("Ex 2", (wrapped, 0.0), test=ch.exercise_2)
-
-
-def test_exercise_3_association_probability():
-    d_m = ch._exercise_3_dm()
-    assert 0.5 < norm.cdf(d_m / 2) < 1.0  # a case where the answer is not trivial
-    assert _ok("Ex 3", norm.cdf(d_m / 2), ch.exercise_3)
-    for wrong in (
+        [UPPER_50, UPPER_50],
+    ],
+    "exercise_2": [
+        (0.0, RAW),  # zero
+        (0.03, RAW),  # the measurement error itself
+        (-WRAPPED, RAW),  # wrong sign
+        (RAW, RAW),  # the unwrapped update for (a)
+        (WRAPPED, 0.0),  # second part missing
+        (WRAPPED, WRAPPED),  # (b) wrapped too
+        (WRAPPED, -RAW),
+        (WRAPPED, -2 * math.pi),  # the raw innovation, not the heading change
+        WRAPPED,  # one number only
+    ],
+    "exercise_3": [
         0.5,  # a coin toss
         1.0,
         0.0,
-        norm.cdf(-d_m / 2),  # the probability of the wrong choice
-        norm.cdf(d_m),  # forgot the half
+        norm.cdf(-D_M / 2),  # the probability of the wrong choice
+        norm.cdf(D_M),  # forgot the half
         1.5,  # not a probability
         norm.cdf(0.3 / 0.1 / 2),  # Euclidean spacing over σ_r
-    ):
-        assert _no("Ex 3", wrong, ch.exercise_3), wrong
-
-
-def test_exercise_4_ukf_weights_every_part():
-    gamma, wm, wc = ukf_weights(9, ukf_alpha=0.5, beta=2.0, kappa=0.0)
-    right = (9, gamma, wm[0], wc[0], wm[1])
-    assert _ok("Ex 4", right, ch.exercise_4)
-    g7, wm7, wc7 = ukf_weights(7, ukf_alpha=0.5, beta=2.0, kappa=0.0)
-    for wrong in (
-        (7, g7, wm7[0], wc7[0], wm7[1]),  # one feature's L
-        (9, gamma**2, wm[0], wc[0], wm[1]),  # γ² for γ
-        (9, gamma, wm[0], wm[0], wm[1]),  # w0(c) = w0(m)
-        (9, gamma, wc[0], wc[0], wm[1]),  # w0(m) = w0(c)
-        (9, gamma, wm[0], wc[0], 1 / 19),  # equal weights
-        (9, gamma, -wm[0], wc[0], wm[1]),  # sign
+    ],
+    "exercise_4": [
+        (7, G7, WM7[0], WC7[0], WM7[1]),  # one feature's L
+        (9, GAMMA**2, WM[0], WC[0], WM[1]),  # γ² for γ
+        (9, GAMMA, WM[0], WM[0], WM[1]),  # w0(c) = w0(m)
+        (9, GAMMA, WC[0], WC[0], WM[1]),  # w0(m) = w0(c)
+        (9, GAMMA, WM[0], WC[0], 1 / 19),  # equal weights
+        (9, GAMMA, -WM[0], WC[0], WM[1]),  # sign
         (0, 0, 0, 0, 0),
-        (9, gamma, wm[0], wc[0]),  # a part missing
-    ):
-        assert _no("Ex 4", wrong, ch.exercise_4), wrong
+        (9, GAMMA, WM[0], WC[0]),  # a part missing
+    ],
+    "exercise_5": [
+        (V11_DECK, V11_DECK),  # the deck's formula for the right one
+        (V11_RIGHT, V11_RIGHT),  # the right one for the deck's
+        (0.0, V11_DECK),
+        (-V11_RIGHT, V11_DECK),  # wrong sign
+        (0.1 * math.cos(0.5), V11_DECK),  # the straight-line value
+        (V11_RIGHT, -V11_DECK),
+        (V11_DECK, V11_RIGHT),  # swapped
+        (V11_RIGHT,),
+    ],
+}
+
+
+def test_the_registry_covers_every_check():
+    names = {n for n in ch.__all__ if n.startswith("exercise")}
+    assert set(WRONG_ANSWERS) == set(RIGHT) == names
+    assert all(len(wrong) >= 3 for wrong in WRONG_ANSWERS.values())
+
+
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_right_answer_is_correct(name):
+    assert _ok(name, RIGHT[name], getattr(ch, name))
+
+
+@pytest.mark.parametrize(
+    ("name", "k"), [(n, k) for n, wrong in WRONG_ANSWERS.items() for k in range(len(wrong))]
+)
+def test_wrong_answer_is_not_yet(name, k):
+    message = verdict(name, WRONG_ANSWERS[name][k], test=getattr(ch, name))
+    assert message.startswith(f"{name}: not yet — "), message
+
+
+def _printed(value):
+    """The ways a number could appear in a message."""
+    x = float(value)
+    forms = {repr(x), f"{x:.6g}", f"{x:.4g}", f"{x:.3g}", f"{x:.4f}", f"{x:.3f}", f"{x:.2f}"}
+    if x == round(x):
+        forms.add(str(int(x)))
+    return {f for f in forms if f not in ("0", "0.0", "-0", "1", "2", "3")}  # digits of prose
+
+
+@pytest.mark.parametrize(
+    ("name", "k"), [(n, k) for n, wrong in WRONG_ANSWERS.items() for k in range(len(wrong))]
+)
+def test_no_message_states_the_right_answer(name, k):
+    """A "not yet" says what is wrong (a unit, a sign, a factor), never the expected value."""
+    message = verdict(name, WRONG_ANSWERS[name][k], test=getattr(ch, name))
+    for part in np.atleast_1d(np.asarray(RIGHT[name], dtype=float)):
+        for form in _printed(part):
+            assert form not in message, (form, message)
+
+
+def test_the_planted_answer_would_be_caught():
+    """The test above can fail: a message holding the answer (as the check once showed) is found."""
+    leaky = f"{verdict('e', 0.0, test=ch.exercise_1)} (expected {UPPER_50:.4f})"
+    assert any(form in leaky for form in _printed(UPPER_50))
+
+
+def test_exercise_2_values_and_parts():
+    wrapped, raw = ch._exercise_2_truth()
+    assert wrapped == pytest.approx(-0.0278, abs=1e-4)  # the issue's value
+    assert raw == pytest.approx(5.79, abs=0.005)
+    assert _ok("Ex 2", (round(WRAPPED, 6), round(RAW, 5)), ch.exercise_2)
+    assert "(a)" in verdict("Ex 2", (0.0, RAW), test=ch.exercise_2)
+    assert "(b)" in verdict("Ex 2", (WRAPPED, 0.0), test=ch.exercise_2)
+
+
+def test_exercise_3_is_not_trivial():
+    assert 0.5 < norm.cdf(D_M / 2) < 1.0  # a case where the answer is not trivial
 
 
 def test_exercise_5_deck_V11():
     right, deck = ch._exercise_5_truth()
     assert right == pytest.approx(0.1 * math.cos(0.5 + 0.005) * math.sin(0.005) / 0.005, rel=1e-12)
-    assert _ok("Ex 5", (right, deck), ch.exercise_5)
-    for wrong in (
-        (deck, deck),  # the deck's formula for the right one
-        (right, right),  # the right one for the deck's
-        (0.0, deck),
-        (-right, deck),  # wrong sign
-        (0.1 * math.cos(0.5), deck),  # the straight-line value
-        (right, -deck),
-        (deck, right),  # swapped
-        (right,),
-    ):
-        assert _no("Ex 5", wrong, ch.exercise_5), wrong
     assert np.isfinite(deck) and deck < -9  # the deck's value is ≈ -2 sin θ / ω

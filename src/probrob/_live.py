@@ -34,7 +34,9 @@ samples): :func:`beam_model_live` (``beam.js``) and :func:`distribution_live` (T
 ``distribution.js``). A kernel with ``panels: 2`` draws the same model twice side by side at
 two sets of parameters (:func:`velocity_noise_forms_live`, ``noise_forms.js`` on the unchanged
 ``velocity.js``, pulled in by ``requires``); a kernel of ``kind: "scene"`` draws a geometric
-construction and exposes its numbers (:func:`cir_step_live`, ``cir.js``).
+construction and exposes its numbers (:func:`cir_step_live`, ``cir.js``; and
+:func:`probrob.widgets.ekf_step_live`, ``ekf.js``: one step of Table 7.2 with its covariance
+ellipses, held to :mod:`probrob.localization` by ``tests/test_live_widgets_t5.py``).
 
 A filter that runs over time has its own mount: :func:`particle_filter_live` (``mcl.js``,
 inlined after ``live.js`` and ``odometry.js``, whose helpers it uses) runs Monte Carlo
