@@ -2,6 +2,7 @@
 "not yet" to the typical wrong ones (``probrob.exercises.mcl``)."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -58,6 +59,49 @@ WRONG_ANSWERS = {
         math.sqrt(0.1) * abs(R1),  # one number only
     ],
 }
+
+
+def printed_forms(right):
+    """The strings under which a message could print the right answer ``right`` (a number or
+    nested tuples of numbers): repr, %g, 2 to 6 significant digits, 1 to 3 decimals, scientific,
+    with thousands separators, and the tuples themselves. Forms with fewer than two
+    significant digits ("0.2", "4") are left out: too short to tell from other text."""
+    forms = set()
+    if isinstance(right, tuple | list):
+        for part in (right, *right):
+            if np.ndim(part) and np.all(np.mod(np.asarray(part, dtype=float), 1) == 0):
+                forms.add(str(tuple(np.asarray(part, dtype=int).ravel().tolist())))
+            else:
+                forms.add(str(part))
+    for x in np.asarray(right, dtype=float).ravel():
+        if not np.isfinite(x):
+            continue
+        x = float(x)
+        forms |= {repr(x), f"{x:g}", f"{x:,.0f}", f"{x:,.0f}".replace(",", " ")}
+        forms |= {f"{x:.{n}g}" for n in range(2, 7)} | {f"{x:.{n}f}" for n in (1, 2, 3)}
+        forms |= {f"{x:.{n}e}" for n in (1, 2, 3)}
+        if x == int(x):
+            forms |= {str(int(x)), f"{int(x):,}".replace(",", " ")}
+    return {f for f in forms if len(re.sub(r"[^0-9]", "", f).lstrip("0")) >= 2}
+
+
+def assert_answer_not_printed(line, right):
+    leaked = sorted(f for f in printed_forms(right) if f in line)
+    assert not leaked, f"the message gives the answer away ({leaked}): {line}"
+
+
+@pytest.mark.parametrize(
+    ("name", "wrong"), [(n, w) for n, ws in WRONG_ANSWERS.items() for w in ws]
+)
+def test_no_wrong_answers_message_prints_the_right_answer(name, wrong):
+    assert_answer_not_printed(verdict(name, wrong, test=getattr(mcl, name)), RIGHT[name])
+
+
+def test_the_leak_check_can_fail():
+    with pytest.raises(AssertionError, match="gives the answer away"):
+        assert_answer_not_printed("not yet: it is 1 - 0.75 = 0.25", RIGHT["exercise_3"])
+    with pytest.raises(AssertionError, match="gives the answer away"):
+        assert_answer_not_printed("the highest are (1, 5, 2, 4)", ((0, 4, 1, 3), (1, 5, 2, 4)))
 
 
 @pytest.mark.parametrize("name", sorted(RIGHT))

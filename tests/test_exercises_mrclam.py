@@ -5,6 +5,7 @@ windows made up for the test (windows drawn from the odometry model), so the tes
 data set and no fit of the real run.
 """
 
+import re
 from functools import partial
 from pathlib import Path
 
@@ -31,9 +32,41 @@ def correct(name, answer, test):
     return verdict(name, answer, test=test) == f"{name}: correct"
 
 
-def not_yet(name, answer, test):
+def not_yet(name, answer, test, right=None):
+    """``answer`` is "not yet" and (given ``right``) its message does not print ``right``."""
     line = verdict(name, answer, test=test)
+    if right is not None:
+        assert_answer_not_printed(line, right)
     return line.startswith(f"{name}: not yet")
+
+
+def printed_forms(right):
+    """The strings under which a message could print the right answer ``right`` (a number or
+    nested tuples of numbers): repr, %g, 2 to 6 significant digits, 1 to 3 decimals, scientific,
+    with thousands separators, and the tuples themselves. Forms with fewer than two
+    significant digits ("0.2", "4") are left out: too short to tell from other text."""
+    forms = set()
+    if isinstance(right, tuple | list):
+        for part in (right, *right):
+            if np.ndim(part) and np.all(np.mod(np.asarray(part, dtype=float), 1) == 0):
+                forms.add(str(tuple(np.asarray(part, dtype=int).ravel().tolist())))
+            else:
+                forms.add(str(part))
+    for x in np.asarray(right, dtype=float).ravel():
+        if not np.isfinite(x):
+            continue
+        x = float(x)
+        forms |= {repr(x), f"{x:g}", f"{x:,.0f}", f"{x:,.0f}".replace(",", " ")}
+        forms |= {f"{x:.{n}g}" for n in range(2, 7)} | {f"{x:.{n}f}" for n in (1, 2, 3)}
+        forms |= {f"{x:.{n}e}" for n in (1, 2, 3)}
+        if x == int(x):
+            forms |= {str(int(x)), f"{int(x):,}".replace(",", " ")}
+    return {f for f in forms if len(re.sub(r"[^0-9]", "", f).lstrip("0")) >= 2}
+
+
+def assert_answer_not_printed(line, right):
+    leaked = sorted(f for f in printed_forms(right) if f in line)
+    assert not leaked, f"the message gives the answer away ({leaked}): {line}"
 
 
 # ------------------------------------------------------------------------------ exercise 1
@@ -86,7 +119,7 @@ def test_exercise_1_slips_are_not_yet(slip):
         "other alpha": _ratio(alpha=ALPHA_V_STD),
         "text": "0.88",
     }[slip]
-    assert not_yet("Exercise 1", answer, partial(ch.exercise_1, alpha=ALPHA_V))
+    assert not_yet("Exercise 1", answer, partial(ch.exercise_1, alpha=ALPHA_V), right=right)
 
 
 # ------------------------------------------------------------------------------ exercise 2
@@ -129,7 +162,7 @@ def test_exercise_2_slips_are_not_yet(slip):
         "both at delta-hat": (var_55, var_55),
         "one number": var_55,
     }[slip]
-    assert not_yet("Exercise 2", answer, _test_2())
+    assert not_yet("Exercise 2", answer, _test_2(), right=(var_55, var_56))
 
 
 def test_exercise_2_says_which_part_is_off():
@@ -205,7 +238,7 @@ def test_exercise_3_slips_are_not_yet(split, slip):
         "number only": split["swapped"],
         "other word": (split["swapped"], "better"),
     }[slip]
-    assert not_yet("Exercise 3", answer, split["test"])
+    assert not_yet("Exercise 3", answer, split["test"], right=split["swapped"])
 
 
 # ------------------------------------------------------------------------------ exercise 4
@@ -242,7 +275,7 @@ def test_exercise_4_slips_are_not_yet(slip):
         "v only": tuple(a[2 * k] * abs(V) for k in range(3)),
         "reversed": tuple(right[::-1]),
     }[slip]
-    assert not_yet("Exercise 4", answer, _test_4())
+    assert not_yet("Exercise 4", answer, _test_4(), right=tuple(right))
 
 
 # ------------------------------------------------------------------------------ all

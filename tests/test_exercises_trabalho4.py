@@ -1,4 +1,7 @@
-"""The exercise checks of the chapter "Trabalho 4": the right answer passes, typical slips fail."""
+"""The exercise checks of the chapter "Trabalho 4": the right answer passes, typical slips fail,
+and no slip's message prints the right answer."""
+
+import re
 
 import numpy as np
 import pytest
@@ -20,9 +23,40 @@ def is_correct(name, answer, test):
     return verdict(name, answer, test=test) == f"{name}: correct"
 
 
-def assert_not_yet(name, answer, test):
+def printed_forms(right):
+    """The strings under which a message could print the right answer ``right`` (a number or
+    nested tuples of numbers): repr, %g, 2 to 6 significant digits, 1 to 3 decimals, scientific,
+    with thousands separators, and the tuples themselves. Forms with fewer than two
+    significant digits ("0.2", "4") are left out: too short to tell from other text."""
+    forms = set()
+    if isinstance(right, tuple | list):
+        for part in (right, *right):
+            if np.ndim(part) and np.all(np.mod(np.asarray(part, dtype=float), 1) == 0):
+                forms.add(str(tuple(np.asarray(part, dtype=int).ravel().tolist())))
+            else:
+                forms.add(str(part))
+    for x in np.asarray(right, dtype=float).ravel():
+        if not np.isfinite(x):
+            continue
+        x = float(x)
+        forms |= {repr(x), f"{x:g}", f"{x:,.0f}", f"{x:,.0f}".replace(",", " ")}
+        forms |= {f"{x:.{n}g}" for n in range(2, 7)} | {f"{x:.{n}f}" for n in (1, 2, 3)}
+        forms |= {f"{x:.{n}e}" for n in (1, 2, 3)}
+        if x == int(x):
+            forms |= {str(int(x)), f"{int(x):,}".replace(",", " ")}
+    return {f for f in forms if len(re.sub(r"[^0-9]", "", f).lstrip("0")) >= 2}
+
+
+def assert_answer_not_printed(line, right):
+    leaked = sorted(f for f in printed_forms(right) if f in line)
+    assert not leaked, f"the message gives the answer away ({leaked}): {line}"
+
+
+def assert_not_yet(name, answer, test, right):
+    """``answer`` is "not yet", and its message does not print ``right``."""
     line = verdict(name, answer, test=test)
     assert line.startswith(f"{name}: not yet"), (answer, line)
+    assert_answer_not_printed(line, right)
 
 
 @pytest.fixture(scope="module")
@@ -60,7 +94,7 @@ def test_exercise_1_point_mass_count():
         (int(np.sum(z >= 9.0)), 500),  # counted near r_max, not at it
         n,  # one number for a pair
     ]:
-        assert_not_yet("Exercise 1", wrong, ch.exercise_1)
+        assert_not_yet("Exercise 1", wrong, ch.exercise_1, right=(n, 500))
 
 
 def test_exercise_2_underflow(intel):
@@ -81,7 +115,7 @@ def test_exercise_2_underflow(intel):
         (np.exp(q_true), q_log),  # q at the corrected pose
         (q_log, 0.0),  # swapped
     ]:
-        assert_not_yet("Exercise 2", wrong, ch.exercise_2)
+        assert_not_yet("Exercise 2", wrong, ch.exercise_2, right=(0.0, q_log))
 
 
 def test_exercise_3_deck_table_6_2():
@@ -93,7 +127,7 @@ def test_exercise_3_deck_table_6_2():
     em = learn_intrinsic_parameters(z, z_star, 10.0).z_hit
     assert is_correct("Exercise 3", deck, ch.exercise_3)
     for wrong in [deck_e, em, 0.7, 0.0, round(deck, 3)]:
-        assert_not_yet("Exercise 3", wrong, ch.exercise_3)
+        assert_not_yet("Exercise 3", wrong, ch.exercise_3, right=deck)
 
 
 def test_exercise_4_likelihood_field_drop(intel):
@@ -115,7 +149,7 @@ def test_exercise_4_likelihood_field_drop(intel):
         np.exp(-drop),  # a likelihood ratio, not nats
         0.0,
     ]:
-        assert_not_yet("Exercise 4", wrong, ch.exercise_4)
+        assert_not_yet("Exercise 4", wrong, ch.exercise_4, right=drop)
 
 
 def test_exercise_5_sigma_or_variance(mrclam):
@@ -134,7 +168,7 @@ def test_exercise_5_sigma_or_variance(mrclam):
         (np.exp(right), np.exp(deck)),  # likelihoods, not logs
         (lq(sig, truth * [1, 1, 0]), deck),  # heading left out (errata L2)
     ]:
-        assert_not_yet("Exercise 5", wrong, ch.exercise_5)
+        assert_not_yet("Exercise 5", wrong, ch.exercise_5, right=(right, deck))
 
 
 def test_exercise_6_heading(mrclam):
@@ -150,7 +184,7 @@ def test_exercise_6_heading(mrclam):
         np.rad2deg(theta),  # degrees
         0.0,
     ]:
-        assert_not_yet("Exercise 6", wrong, ch.exercise_6)
+        assert_not_yet("Exercise 6", wrong, ch.exercise_6, right=theta)
 
 
 def test_checks_never_raise_on_nonsense():
@@ -160,3 +194,12 @@ def test_checks_never_raise_on_nonsense():
     for test in (ch.exercise_3, ch.exercise_4, ch.exercise_6):
         assert "not yet" in verdict("Ex", "text", test=test)
         assert "not yet" in verdict("Ex", float("nan"), test=test)
+
+
+def test_the_leak_check_can_fail():
+    """The expected count printed as the issue found it is caught (so the check above can fail)."""
+    with pytest.raises(AssertionError, match="gives the answer away"):
+        assert_answer_not_printed("n_expected: expected about 10 000 × z_max = 500", (123, 500))
+    with pytest.raises(AssertionError, match="gives the answer away"):
+        assert_answer_not_printed("too small: the drop is 12.3 nats", 12.3456)
+    assert_answer_not_printed("n_expected is not the expected count", (123, 500))

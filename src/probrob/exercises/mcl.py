@@ -59,7 +59,7 @@ def exercise_3(answer) -> str | None:
     if not 0.0 <= got <= 1.0:
         return "a probability lies between 0 and 1"
     if abs(got - (1.0 - 2.0e-4 / 1.5e-4)) < 1e-9 or abs(got - 1.5e-4 / 2.0e-4) < 1e-9:
-        return "it is 1 - w_fast / w_slow (Table 8.3, line 14)"
+        return "not line 14 of Table 8.3: check which average is on top, and the 1 - ..."
     if abs(got - want) > 1e-3 * want:
         return "not the probability of line 14 of Table 8.3"
     return None
