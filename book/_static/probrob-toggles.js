@@ -29,7 +29,43 @@
       if (b.textContent.trim()) b.removeAttribute("aria-label");
     });
   }
+  // axe "label-content-name-mismatch": the colour-mode button is named "Color mode" but its
+  // icons' titles ("Light", "Dark", "System Settings") read as its text: the icons are decoration.
+  function quietThemeIcons() {
+    document.querySelectorAll(".theme-switch-button i.theme-switch").forEach(function (i) {
+      i.setAttribute("aria-hidden", "true");
+      i.removeAttribute("title");
+    });
+  }
+  // axe "label-content-name-mismatch": myst-nb's hidden-cell <summary> is named "Toggle hidden
+  // content" but reads "Show code cell content": its visible text is its name.
+  function nameSummaries() {
+    document.querySelectorAll("summary[aria-label='Toggle hidden content']").forEach(function (s) {
+      if (s.textContent.trim()) s.removeAttribute("aria-label");
+    });
+  }
+  // axe "aria-allowed-role", "aria-deprecated-role", "aria-required-children": docutils marks
+  // each bibliography entry role="doc-biblioentry" (deprecated) inside role="list": they are
+  // the list's items.
+  function listCitations() {
+    document.querySelectorAll("[role='list'] > [role='doc-biblioentry']").forEach(function (c) {
+      c.setAttribute("role", "listitem");
+    });
+  }
+  // axe "region": the primary sidebar is a plain <div>; its first item (the book's title and
+  // logo link) is outside every landmark. The sidebar is a complementary region of the page.
+  function landmarkSidebar() {
+    const sidebar = document.getElementById("pst-primary-sidebar");
+    if (sidebar && !sidebar.hasAttribute("role")) {
+      sidebar.setAttribute("role", "complementary");
+      sidebar.setAttribute("aria-label", "Book navigation");
+    }
+  }
   function init() {
+    quietThemeIcons();
+    landmarkSidebar();
+    nameSummaries();
+    listCitations();
     wire("primary");
     wire("secondary");
     nameSearchFields();
