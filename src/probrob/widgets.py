@@ -362,6 +362,14 @@ def parameter_player(
     page = page.replace(
         '<input id="_anim_slider', f'<input aria-label="{slider}" id="_anim_slider', 1
     )
+    # matplotlib names the loop-mode <form> ("Repetition mode"), which makes it a form landmark:
+    # several players on a page then have landmarks of one name (axe "landmark-unique"). It is
+    # a row of radio buttons, not a region a reader navigates to (its title stays a tooltip).
+    page = page.replace(
+        '<form title="Repetition mode" aria-label="Repetition mode"',
+        '<form title="Repetition mode" role="none"',
+        1,
+    )
     return HTML(page)
 
 

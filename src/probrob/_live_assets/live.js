@@ -153,6 +153,44 @@ function fmtTick(t) {
   return String(Number(t.toPrecision(4)));
 }
 
+// The canvas keeps the aspect ratio config.width : config.height at any width (CSS width 100 %,
+// at most config.width CSS pixels, height from aspect-ratio: no inline height). Its bitmap is
+// its displayed size times devicePixelRatio; returns [CSS width, CSS height, devicePixelRatio],
+// the size the drawing is laid out for. Before layout (a hidden or not yet attached block) the
+// displayed width is unknown: config.width is used.
+function fitCanvas(canvas, config) {
+  canvas.style.maxWidth = config.width + "px";
+  canvas.style.aspectRatio = config.width + " / " + config.height;
+  const dpr = window.devicePixelRatio || 1;
+  const shown = canvas.getBoundingClientRect().width;
+  const w = shown > 0 ? shown : config.width;
+  const h = (w * config.height) / config.width;
+  const bw = Math.max(1, Math.round(w * dpr));
+  const bh = Math.max(1, Math.round(h * dpr));
+  if (canvas.width !== bw) canvas.width = bw;
+  if (canvas.height !== bh) canvas.height = bh;
+  return [w, h, dpr];
+}
+// Calls redraw() (on the next animation frame) when the canvas's displayed width or the
+// devicePixelRatio changes: a rotated phone, a resized window, a zoom.
+function watchCanvasSize(canvas, config, redraw) {
+  let shown = [canvas.getBoundingClientRect().width, window.devicePixelRatio || 1];
+  let queued = false;
+  const check = () => {
+    const now = [canvas.getBoundingClientRect().width, window.devicePixelRatio || 1];
+    if (now[0] > 0 && (Math.abs(now[0] - shown[0]) > 0.5 || now[1] !== shown[1]) && !queued) {
+      shown = now;
+      queued = true;
+      requestAnimationFrame(() => {
+        queued = false;
+        redraw();
+      });
+    }
+  };
+  if (typeof ResizeObserver !== "undefined") new ResizeObserver(check).observe(canvas);
+  window.addEventListener("resize", check);
+}
+
 function mountLiveWidget(root, config, kernel) {
   const n = config.n;
   const nx = config.grid;
@@ -161,13 +199,12 @@ function mountLiveWidget(root, config, kernel) {
   for (const [name, b64] of Object.entries(config.draws)) draws[name] = decodeFloat64(b64);
   const canvas = root.querySelector("canvas");
   const ctx = canvas.getContext("2d");
-  const W = config.width;
-  const H = config.height;
-  const dpr = window.devicePixelRatio || 1;
-  canvas.width = Math.round(W * dpr);
-  canvas.height = Math.round(H * dpr);
-  canvas.style.width = W + "px";
-  canvas.style.height = H + "px";
+  // W x H: the canvas's displayed size in CSS pixels (the drawing's coordinates; text in CSS
+  // pixels stays legible on a phone); the bitmap is that times devicePixelRatio. See fitCanvas.
+  let W = config.width;
+  let H = config.height;
+  let dpr = window.devicePixelRatio || 1;
+  fitCanvas(canvas, config);
   const image = document.createElement("canvas");
   image.width = nx;
   image.height = ny;
@@ -296,7 +333,12 @@ function mountLiveWidget(root, config, kernel) {
   // ---- drawing ------------------------------------------------------------------------
   const M = { left: 62, top: 34, right: 118, bottom: 48 };
   const GAP = 14; // between panels, which share the y axis (its labels on the first only)
-  const S = Math.min((W - M.left - M.right - (panels - 1) * GAP) / panels, H - M.top - M.bottom);
+  let S = 0;
+  function layout() {
+    [W, H, dpr] = fitCanvas(canvas, config);
+    S = Math.min((W - M.left - M.right - (panels - 1) * GAP) / panels, H - M.top - M.bottom);
+  }
+  layout();
 
   function arrow(x, y, th, length, color, sx, sy) {
     const x0 = sx(x);
@@ -506,9 +548,11 @@ function mountLiveWidget(root, config, kernel) {
     ctx.restore();
   }
 
+  let lastState = null;
   function update(refit) {
     const t0 = performance.now();
     const state = compute(refit);
+    lastState = state;
     const t1 = performance.now();
     draw(state);
     const t2 = performance.now();
@@ -524,6 +568,11 @@ function mountLiveWidget(root, config, kernel) {
       update(false);
     });
   }
+  // a new displayed size: a new bitmap, the same state drawn again (nothing recomputed)
+  watchCanvasSize(canvas, config, () => {
+    layout();
+    if (lastState !== null) draw(lastState);
+  });
 
   // ---- controls -----------------------------------------------------------------------
   function show(name) {

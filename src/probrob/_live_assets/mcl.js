@@ -216,13 +216,8 @@ function mountParticleFilter(root, config) {
   // ---- controls -------------------------------------------------------------------------
   const canvas = root.querySelector("canvas");
   const ctx = canvas.getContext("2d");
-  const W = config.width;
-  const H = config.height;
-  const dpr = window.devicePixelRatio || 1;
-  canvas.width = Math.round(W * dpr);
-  canvas.height = Math.round(H * dpr);
-  canvas.style.width = W + "px";
-  canvas.style.height = H + "px";
+  // the displayed size in CSS pixels and the bitmap's scale (live.js fitCanvas, watchCanvasSize)
+  let [W, H, dpr] = fitCanvas(canvas, config);
   const status = root.querySelector(".pl-status");
   const values = {};
   const defaults = {};
@@ -407,8 +402,13 @@ function mountParticleFilter(root, config) {
     mctx.putImageData(img, 0, 0);
   }
   const M = { left: 56, top: 30, right: 12, bottom: 42 };
-  const PW = W - M.left - M.right;
-  const PH = H - M.top - M.bottom;
+  let PW = W - M.left - M.right;
+  let PH = H - M.top - M.bottom;
+  function layout() {
+    [W, H, dpr] = fitCanvas(canvas, config);
+    PW = W - M.left - M.right;
+    PH = H - M.top - M.bottom;
+  }
   function viewBox(t) {
     let x0;
     let x1;
@@ -553,6 +553,11 @@ function mountParticleFilter(root, config) {
       update();
     });
   }
+  // a new displayed size: a new bitmap, the current step drawn again
+  watchCanvasSize(canvas, config, () => {
+    layout();
+    update();
+  });
 
   function show(name) {
     if (name in ranges) {
