@@ -146,11 +146,17 @@ execute: $(STAMP)
 
 # JupyterLab and jupyterlab-myst (which renders the chapters' MyST: {eval}, {math}, {eq},
 # admonitions) are not part of requirements.txt (the book and the tests do not need them);
+# JupyterLab's settings for this book (_ext/jupyterlab_overrides.json, installed as the venv's
+# overrides.json): the notebook attaches every cell (windowingMode "none"). With the default,
+# "contentVisibility", Chromium 156 left players of off-screen cells laid out at 0x0 after they
+# were scrolled to (blank until a slider moved; measured: both Trabalho 5 players, every run).
 # `make lab` adds requirements-lab.txt to .venv on first use (a version pair that
 # `jupyter labextension list` calls compatible; see that file).
 LAB_STAMP := $(VENV)/.lab-installed-stamp
-$(LAB_STAMP): requirements-lab.txt $(STAMP)
+$(LAB_STAMP): requirements-lab.txt _ext/jupyterlab_overrides.json $(STAMP)
 	$(BIN)/python -m pip install --quiet --no-input -r requirements.txt -r requirements-lab.txt
+	mkdir -p $(VENV)/share/jupyter/lab/settings
+	cp _ext/jupyterlab_overrides.json $(VENV)/share/jupyter/lab/settings/overrides.json
 	$(BIN)/python -m pip check
 	$(BIN)/jupyter labextension list
 	@touch $@

@@ -75,7 +75,10 @@ BROKEN_FAULTS = [
     "references that JupyterLab cannot resolve (shown as a warning sign and the label; "
     "cells [2]): errata-x1",
     "player 2 blank",
-    "error in cell 5: ZeroDivisionError",
+    "redraw error in cell 5",
+    "cut label in cell 5",
+    "stray repr in cell 6: <function",
+    "error in cell 7: ZeroDivisionError",
 ]
 
 # --------------------------------------------------------------------------------------------
@@ -225,6 +228,84 @@ JS_SURVEY = r"""
           errors: errors, unrun: unrun, unresolved: unresolved, deadLinks: deadLinks, evalRoles: evals.reduce((a, b) => a + b, 0),
           badEvals: badEvals, players: players};
 })(%s)
+"""
+
+# The controls a reader moves after Run All: per code cell, its ipywidgets sliders (noUiSlider
+# handles), and the range inputs of the kernel-free live widgets and players.
+JS_CONTROLS = r"""
+(() => {
+  const panel = window.__probrob_panel;
+  const out = [];
+  panel.content.widgets.forEach((c, i) => {
+    if (c.model.type !== "code") return;
+    const handles = c.node.querySelectorAll(".jp-OutputArea .widget-slider .noUi-handle");
+    const selects = c.node.querySelectorAll(".jp-OutputArea .widget-dropdown select");
+    const ranges = c.node.querySelectorAll(".jp-OutputArea input[type=range]");
+    const canvases = c.node.querySelectorAll(".jp-OutputArea canvas");
+    if (handles.length || selects.length || ranges.length)
+      out.push({cell: i, sliders: handles.length, selects: selects.length, ranges: ranges.length, canvases: canvases.length});
+  });
+  return out;
+})()
+"""
+# What a cell shows (its images' src, its canvases' pixels, its widget output's text), folded
+# into a hash; its stderr/error outputs; whether the kernel is idle; optionally focus a control.
+JS_FINGERPRINT = r"""
+((i, focus) => {
+  const panel = window.__probrob_panel;
+  const c = panel.content.widgets[i];
+  c.node.scrollIntoView({block: "center"});
+  let h = 0;
+  const mix = s => { for (let k = 0; k < s.length; k += 7) h = (h * 31 + s.charCodeAt(k)) | 0; };
+  c.node.querySelectorAll(".jp-OutputArea img").forEach(im => mix(im.getAttribute("src") || ""));
+  c.node.querySelectorAll(".jp-OutputArea canvas").forEach(cv => { try { mix(cv.toDataURL()); } catch (e) {} });
+  const texts = Array.from(c.node.querySelectorAll(".jp-OutputArea .widget-output .jp-RenderedText, .jp-OutputArea .widget-output pre"));
+  texts.forEach(t => mix(t.textContent));
+  const errs = Array.from(c.node.querySelectorAll('.jp-OutputArea [data-mime-type="application/vnd.jupyter.stderr"]'))
+     .map(e => e.textContent.slice(0, 300));
+  const k = panel.sessionContext.session.kernel;
+  let focused = null;
+  if (focus) {
+    const [kind, j] = focus;
+    const sel = kind === "slider" ? ".jp-OutputArea .widget-slider .noUi-handle" :
+                kind === "range" ? ".jp-OutputArea input[type=range]" : ".jp-OutputArea .widget-dropdown select";
+    const el = c.node.querySelectorAll(sel)[j];
+    if (el) { el.focus(); focused = document.activeElement === el; }
+  }
+  return {hash: h, errors: errs, idle: k.status === "idle", focused: focused};
+})(%d, %s)
+"""
+# Labels cut off (text wider than its box), controls past the output's right edge, and stray
+# reprs (an execute_result that is only "<function ...>", "(<Axes: ...>, None)", ...).
+JS_CUT = r"""
+(() => {
+  const panel = window.__probrob_panel;
+  const cut = [], stray = [];
+  panel.content.widgets.forEach((c, i) => {
+    if (c.model.type !== "code") return;
+    for (const o of (c.model.toJSON().outputs || [])) {
+      const t = o.data && o.data["text/plain"];
+      const s = Array.isArray(t) ? t.join("") : (t || "");
+      if (o.output_type === "execute_result" && /^[(\[]?<(Axes|Figure|function|matplotlib|module|bound method|[\w.]+ object at)/.test(s)
+          && !(o.data["text/html"] || o.data["application/vnd.jupyter.widget-view+json"] || o.data["image/png"]))
+        stray.push({cell: i, text: s.slice(0, 100)});
+    }
+    c.node.scrollIntoView({block: "center"});
+    const area = c.node.querySelector(".jp-OutputArea");
+    if (!area) return;
+    const right = area.getBoundingClientRect().right;
+    for (const el of c.node.querySelectorAll(".jp-OutputArea .widget-label, .jp-OutputArea label")) {
+      if (el.offsetParent && el.scrollWidth > el.clientWidth + 1)
+        cut.push({cell: i, text: el.textContent.trim().slice(0, 60), need: el.scrollWidth, has: el.clientWidth});
+    }
+    for (const el of c.node.querySelectorAll(".jp-OutputArea .jupyter-widgets, .jp-OutputArea select, .jp-OutputArea input")) {
+      const r = el.getBoundingClientRect();
+      if (el.offsetParent && r.width && r.right > right + 1)
+        cut.push({cell: i, text: (el.className || el.tagName).toString().slice(0, 60) + " past the output's edge", need: Math.round(r.right), has: Math.round(right)});
+    }
+  });
+  return {cut: cut, stray: stray};
+})()
 """
 
 JS_SHUTDOWN = """
@@ -399,10 +480,83 @@ def console_warnings(tab: Tab) -> list[str]:
     return out
 
 
+JS_STEP_RANGE = """
+(() => {
+  const el = document.activeElement;
+  if (!el || el.type !== "range") return null;
+  el.stepUp();
+  el.dispatchEvent(new Event("input", {bubbles: true}));
+  el.dispatchEvent(new Event("change", {bubbles: true}));
+  return el.value;
+})()
+"""
+
+
+def check_controls(tab: Tab, timeout: float = 15.0) -> tuple[list[str], list[str]]:
+    """Move the first ipywidgets slider and the first live range input of every cell that has
+    them; each must redraw its cell (images, canvas or text) within ``timeout`` seconds,
+    with the kernel idle again and no error in the cell's outputs. Returns (lines, failures).
+
+    An ipywidgets slider is moved with the keyboard (its focused handle, ArrowRight) and
+    recomputes in the kernel; a live widget's or player's ``<input type=range>`` is stepped up
+    by script with an ``input`` event (JupyterLab's keyboard handling keeps ArrowRight from
+    reaching a focused range input in an output), as a drag would."""
+    lines, failures = [], []
+    for c in tab.js(JS_CONTROLS):
+        for kind, n in (("slider", c["sliders"]), ("range", c["ranges"])):
+            if not n:
+                continue
+            s0 = tab.js(JS_FINGERPRINT % (c["cell"], json.dumps([kind, 0])))
+            time.sleep(0.3)  # scrolled into view: let lazy outputs lay out
+            s0 = tab.js(JS_FINGERPRINT % (c["cell"], json.dumps([kind, 0])))
+            if kind == "range":
+                tab.js(JS_STEP_RANGE)
+            else:
+                tab.key("ArrowRight", "ArrowRight", 39)
+            t0 = time.monotonic()
+            changed = False
+            while time.monotonic() - t0 < timeout:
+                time.sleep(0.1)
+                s1 = tab.js(JS_FINGERPRINT % (c["cell"], "null"))
+                if s1["errors"] and s1["idle"]:
+                    break
+                if s1["hash"] != s0["hash"] and s1["idle"]:
+                    changed = True
+                    break
+            what = "ipywidgets slider" if kind == "slider" else "live/player range input"
+            dt = time.monotonic() - t0
+            if s1["errors"]:
+                failures.append(
+                    f"redraw error in cell {c['cell']} after moving its {what}: "
+                    f"{s1['errors'][0][:200]}"
+                )
+            elif not changed or not s0["focused"]:
+                failures.append(
+                    f"no redraw in cell {c['cell']} within {timeout:.0f} s of moving its {what}"
+                )
+            lines.append(
+                f"cell {c['cell']}: {what} moved, "
+                + (f"redrawn in {dt:.2f} s" if changed else "NOT redrawn")
+            )
+    cut = tab.js(JS_CUT)
+    for k in cut["cut"]:
+        failures.append(
+            f"cut label in cell {k['cell']}: {k['text']!r} needs {k['need']} px, has {k['has']}"
+        )
+    for k in cut["stray"]:
+        failures.append(f"stray repr in cell {k['cell']}: {k['text']}")
+    return lines, failures
+
+
 def check_notebook(browser: Browser, lab: Lab, name: str, args) -> list[str]:
     failures: list[str] = []
     tab = Tab.open(browser, width=1280, height=1000)
     try:
+        # The page a reader looks at: in front, focused, so it renders every frame (a background
+        # tab is not rendered, and JupyterLab's off-screen cells, content-visibility: auto, are
+        # then never laid out when scrolled to: players at 0x0).
+        tab.send("Page.bringToFront")
+        tab.send("Emulation.setFocusEmulationEnabled", {"enabled": True})
         tab.navigate(f"{lab.url}/lab?reset")
         state = tab.js(JS_WAIT_APP % int(args.timeout * 1000), timeout=args.timeout + 10)
         if state != "ok":
@@ -486,6 +640,16 @@ def check_notebook(browser: Browser, lab: Lab, name: str, args) -> list[str]:
             )
         if len(s["players"]) < args.min_players:
             failures.append(f"{len(s['players'])} players, expected >= {args.min_players}")
+        if True:  # the cells before an error have run: their controls are checked too
+            lines, control_failures = check_controls(tab)
+            moved = [ln for ln in lines if "redrawn in" in ln]
+            times = [float(ln.rsplit("in ", 1)[1].split(" s")[0]) for ln in moved]
+            print(
+                f"  controls: {len(lines)} moved, {len(moved)} redrawn"
+                + (f" (slowest {max(times):.2f} s)" if times else "")
+                + f"; {len(control_failures)} problems (redraw errors, cut labels, stray reprs)"
+            )
+            failures += control_failures
         console = console_problems(tab)
         warnings = console_warnings(tab)
         print(f"  console: {len(console)} errors, {len(warnings)} warnings")

@@ -156,7 +156,10 @@ def test_parameter_player_explicit_limits_and_accessibility():
 
     html = parameter_player(draw, [0.5, 1.5], label="w", xlim=(-1, 2), ylim=(-1, 2)).data
     assert re.search(
-        r'<img alt="Player: w swept over 2 frames, from 0.5 to 1.5" id="_anim_img', html
+        r'<img alt="Player: w swept over 2 frames, from 0.5 to 1.5" width="\d+" height="\d+" '
+        r'style="display: block; '
+        r'max-width: 100%; height: auto" id="_anim_img',
+        html,
     )
     assert '<input aria-label="frame of the w sweep" id="_anim_slider' in html
     assert "http://" not in html and "https://" not in html

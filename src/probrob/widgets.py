@@ -29,6 +29,7 @@ calls the models. ``ipywidgets`` and ``IPython`` are imported only when used.
 
 from __future__ import annotations
 
+import base64
 import re
 import tempfile
 from pathlib import Path
@@ -239,6 +240,16 @@ def _player_limits(draw, values, figsize, dpi):
     return (lo[0], hi[0]), (lo[1], hi[1])
 
 
+def _first_frame_size(page: str) -> tuple[int, int]:
+    """Width and height in pixels of the first PNG frame embedded in a player's HTML (read from
+    the PNG's IHDR header)."""
+    match = re.search(r"data:image/png;base64,([A-Za-z0-9+/]{32})", page)
+    if match is None:
+        raise RuntimeError("the player's HTML holds no PNG frame")
+    header = base64.b64decode(match[1])
+    return int.from_bytes(header[16:20], "big"), int.from_bytes(header[20:24], "big")
+
+
 def parameter_player(
     draw,
     values,
@@ -357,7 +368,15 @@ def parameter_player(
             f"{values[0]:{fmt}} to {values[-1]:{fmt}}"
         )
     alt = html_lib.escape(alt, quote=True)
-    page = page.replace('<img id="_anim_img', f'<img alt="{alt}" id="_anim_img', 1)
+    # The frame's size in the <img> itself (no layout shift when the first frame arrives), as a
+    # block of the column's width at most: on a phone the frame scales down with its box.
+    width, height = _first_frame_size(page)
+    page = page.replace(
+        '<img id="_anim_img',
+        f'<img alt="{alt}" width="{width}" height="{height}" '
+        'style="display: block; max-width: 100%; height: auto" id="_anim_img',
+        1,
+    )
     slider = html_lib.escape(f"frame of the {label} sweep", quote=True)
     page = page.replace(
         '<input id="_anim_slider', f'<input aria-label="{slider}" id="_anim_slider', 1
