@@ -1,6 +1,8 @@
 """The CIR chapter's exercise checks say "correct" to the right answer and "not yet" to the
 typical wrong ones (``probrob.exercises.cir``)."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -11,6 +13,40 @@ from probrob.kinematics import (
     cir_state_function,
     cir_state_jacobians,
 )
+
+
+def _spellings(value):
+    """The ways the right answer could be printed in a message: each of its non-zero numbers,
+    without its sign, to 1-6 decimals, in %g, %.2e and repr."""
+    out = set()
+    for x in np.ravel(np.array(value, dtype=object)):
+        for y in np.ravel(np.asarray(x, dtype=float)):
+            if np.isfinite(y) and abs(y) > 1e-9:
+                z = abs(float(y))
+                out |= {f"{z:.{d}f}" for d in range(1, 7)} | {f"{z:g}", f"{z:.2e}", repr(z)}
+    return {s for s in out if s.strip("0.")}  # "0.00" is not a spelling of 0.0016
+
+
+def _numbers_in(message):
+    """The numbers a message prints, without their signs (a "−" or "-" before them)."""
+    return set(re.findall(r"(?<![\w.])\d+(?:\.\d+)?(?:e[-+]?\d+)?", message))
+
+
+def _leaks(right, message, given=()):
+    """The spellings of the right answer that the message prints, other than those of the
+    numbers the reader gave or the exercise states (``given``), which a message may repeat.
+    A right value of zero counts as printed when the message prints any zero."""
+    numbers = _numbers_in(message) - _spellings(given)
+    zero_is_right = _has_zero(right) and not _has_zero(given)
+    return sorted(
+        t for t in numbers if t in _spellings(right) or (zero_is_right and float(t) == 0)
+    )
+
+
+def _has_zero(value):
+    values = [np.asarray(x, dtype=float) for x in np.ravel(np.array(value, dtype=object))]
+    return any(np.any(np.abs(v) <= 1e-9) for v in values)
+
 
 L = cir.WHEELS
 FLIP = cir.FLIP
@@ -113,3 +149,12 @@ def test_the_spin_s_dx_is_checked_before_the_cir():
 def test_the_erratum_answers_name_erratum_c1():
     assert "C1" in verdict("e", WRONG_ANSWERS["exercise_2"][2], test=cir.exercise_2)
     assert "C1" in verdict("e", WRONG_ANSWERS["exercise_4"][2], test=cir.exercise_4)
+
+
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_no_message_prints_the_right_answer_in_any_spelling(name):
+    """Like the test above, for every way a number could be printed (1-6 decimals, %g, %e,
+    repr, without its sign)."""
+    for answer in [*WRONG_ANSWERS[name], "one"]:
+        message = verdict(name, answer, test=getattr(cir, name))
+        assert not _leaks(RIGHT[name], message), (name, message)

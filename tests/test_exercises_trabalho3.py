@@ -1,12 +1,47 @@
 """The Trabalho 3 chapter's exercise checks say "correct" to the right answer and "not yet"
 to the typical wrong ones (``probrob.exercises.trabalho3``)."""
 
+import re
+
 import numpy as np
 import pytest
 
 from probrob.exercises import trabalho3 as t3
 from probrob.exercises import verdict
 from probrob.motion import motion_model_velocity, odometry_deltas, velocity_motion
+
+
+def _spellings(value):
+    """The ways the right answer could be printed in a message: each of its non-zero numbers,
+    without its sign, to 1-6 decimals, in %g, %.2e and repr."""
+    out = set()
+    for x in np.ravel(np.array(value, dtype=object)):
+        for y in np.ravel(np.asarray(x, dtype=float)):
+            if np.isfinite(y) and abs(y) > 1e-9:
+                z = abs(float(y))
+                out |= {f"{z:.{d}f}" for d in range(1, 7)} | {f"{z:g}", f"{z:.2e}", repr(z)}
+    return {s for s in out if s.strip("0.")}  # "0.00" is not a spelling of 0.0016
+
+
+def _numbers_in(message):
+    """The numbers a message prints, without their signs (a "−" or "-" before them)."""
+    return set(re.findall(r"(?<![\w.])\d+(?:\.\d+)?(?:e[-+]?\d+)?", message))
+
+
+def _leaks(right, message, given=()):
+    """The spellings of the right answer that the message prints, other than those of the
+    numbers the reader gave or the exercise states (``given``), which a message may repeat.
+    A right value of zero counts as printed when the message prints any zero."""
+    numbers = _numbers_in(message) - _spellings(given)
+    zero_is_right = _has_zero(right) and not _has_zero(given)
+    return sorted(
+        t for t in numbers if t in _spellings(right) or (zero_is_right and float(t) == 0)
+    )
+
+
+def _has_zero(value):
+    values = [np.asarray(x, dtype=float) for x in np.ravel(np.array(value, dtype=object))]
+    return any(np.any(np.abs(v) <= 1e-9) for v in values)
 
 
 def _mass_20cm(step=0.001):
@@ -133,3 +168,26 @@ def test_the_answers_of_the_chapter_stay_what_its_solutions_print():
     assert f"{ALPHA_95:.5f}" == "0.00215"
     assert f"{MASS_20CM:.4f}" == "0.6727"
     assert f"{ALPHA1_STD:.5f}" == "0.21541"
+
+
+# Exercise 3's answer is a function: its right values are those of the angles its check uses.
+ANGLES_3 = np.array([0.0, 3.0, 3.2, -3.2, np.pi, -np.pi, 7.0, -20.0, 100.0])
+
+
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_no_message_gives_the_answer_away(name):
+    """A "not yet" message may say what is wrong (a sign, a unit, a factor), never the right
+    value, in any of the ways it could be printed (1-6 decimals, %g, %e, repr, no sign)."""
+    right = RIGHT[name](ANGLES_3) if callable(RIGHT[name]) else RIGHT[name]
+    for answer in [*WRONG_ANSWERS[name], "one"]:
+        message = verdict(name, answer, test=getattr(t3, name))
+        given = _numeric(answer(ANGLES_3) if callable(answer) else answer)
+        assert not _leaks(right, message, given=[*given, *ANGLES_3]), (name, message)
+
+
+def _numeric(answer):
+    """The numbers of a (wrong) answer, which its message may repeat back to the reader."""
+    try:
+        return list(np.ravel(np.asarray(answer, dtype=float)))
+    except (TypeError, ValueError):
+        return []

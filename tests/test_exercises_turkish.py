@@ -1,6 +1,8 @@
 """The Turkish chapter's exercise checks say "correct" to the right answer and "not yet" to
 typical wrong ones (zero, the wrong sign, the slides' formula, degrees, variance for σ, ...)."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -8,6 +10,40 @@ from probrob.exercises import turkish as ch
 from probrob.exercises import verdict
 from probrob.kinematics import arc_update, diff_drive_odometry
 from probrob.motion import motion_model_velocity, velocity_motion
+
+
+def _spellings(value):
+    """The ways the right answer could be printed in a message: each of its non-zero numbers,
+    without its sign, to 1-6 decimals, in %g, %.2e and repr."""
+    out = set()
+    for x in np.ravel(np.array(value, dtype=object)):
+        for y in np.ravel(np.asarray(x, dtype=float)):
+            if np.isfinite(y) and abs(y) > 1e-9:
+                z = abs(float(y))
+                out |= {f"{z:.{d}f}" for d in range(1, 7)} | {f"{z:g}", f"{z:.2e}", repr(z)}
+    return {s for s in out if s.strip("0.")}  # "0.00" is not a spelling of 0.0016
+
+
+def _numbers_in(message):
+    """The numbers a message prints, without their signs (a "−" or "-" before them)."""
+    return set(re.findall(r"(?<![\w.])\d+(?:\.\d+)?(?:e[-+]?\d+)?", message))
+
+
+def _leaks(right, message, given=()):
+    """The spellings of the right answer that the message prints, other than those of the
+    numbers the reader gave or the exercise states (``given``), which a message may repeat.
+    A right value of zero counts as printed when the message prints any zero."""
+    numbers = _numbers_in(message) - _spellings(given)
+    zero_is_right = _has_zero(right) and not _has_zero(given)
+    return sorted(
+        t for t in numbers if t in _spellings(right) or (zero_is_right and float(t) == 0)
+    )
+
+
+def _has_zero(value):
+    values = [np.asarray(x, dtype=float) for x in np.ravel(np.array(value, dtype=object))]
+    return any(np.any(np.abs(v) <= 1e-9) for v in values)
+
 
 START = np.zeros(3)
 
@@ -30,27 +66,28 @@ def _arc_deltas():
 
 
 RIGHT = {
-    ch.exercise_1: 2.5,  # R = ΔS/Δθ = 1/0.4
-    ch.exercise_2: np.arctan(0.5),
-    ch.exercise_3: 0.0,  # the Δθ telescope: no heading error at all
-    ch.exercise_4: _right_turn_controls(),
-    ch.exercise_5: (0.2, 0.1),
-    ch.exercise_6: _arc_deltas(),
+    "exercise_1": 2.5,  # R = ΔS/Δθ = 1/0.4
+    "exercise_2": np.arctan(0.5),
+    "exercise_3": 0.0,  # the Δθ telescope: no heading error at all
+    "exercise_4": _right_turn_controls(),
+    "exercise_5": (0.2, 0.1),
+    "exercise_6": _arc_deltas(),
 }
 
-WRONG = {
-    ch.exercise_1: [0.0, -2.5, 0.4, 0.25, 1.0],  # zero, wrong side, ΔS·Δθ, d/2, ΔS
-    ch.exercise_2: [0.0, np.arctan(2.0), np.degrees(np.arctan(0.5)), -np.arctan(0.5), 0.5],
-    ch.exercise_3: [0.3, 1e-3, 1.2 * (1 - np.cos(10.0))],  # a position error, a guess, θ itself
-    ch.exercise_4: [
+# The registry that tests/test_exercises.py reads: every check, its typical wrong answers.
+WRONG_ANSWERS = {
+    "exercise_1": [0.0, -2.5, 0.4, 0.25, 1.0],  # zero, wrong side, ΔS·Δθ, d/2, ΔS
+    "exercise_2": [0.0, np.arctan(2.0), np.degrees(np.arctan(0.5)), -np.arctan(0.5), 0.5],
+    "exercise_3": [0.3, 1e-3, 1.2 * (1 - np.cos(10.0))],  # a position error, a guess, θ itself
+    "exercise_4": [
         (0.0, 0.0, 0.0),
         _right_turn_controls() * [-1, 1, 1],  # the slides' unsigned r: v̂ = −1.30 m/s
         _right_turn_controls() * [1, -1, 1],  # ω̂ of a left turn
         (_right_turn_controls()[0], 2 * np.pi + _right_turn_controls()[1], 0.0),  # unwrapped
         (*_right_turn_controls()[:2], -1.22),  # γ̂ without subtracting ω̂Δt
     ],
-    ch.exercise_5: [(0.04, 0.01), (0.0, 0.0), (0.2, 0.2), (0.0016, 0.0001), (0.2, 0.01)],
-    ch.exercise_6: [
+    "exercise_5": [(0.04, 0.01), (0.0, 0.0), (0.2, 0.2), (0.0016, 0.0001), (0.2, 0.01)],
+    "exercise_6": [
         (0.0, 0.0, 0.0),
         (0.4, 1.0, 0.4),  # the arc length for the chord
         (0.0, 1.0, 0.8),  # the whole turn at the end
@@ -60,30 +97,43 @@ WRONG = {
 }
 
 
-@pytest.mark.parametrize("test", list(RIGHT), ids=lambda f: f.__name__)
-def test_the_right_answer_is_correct(test):
-    assert _ok(test, RIGHT[test])
+def test_the_registry_covers_every_check():
+    names = {n for n in ch.__all__ if n.startswith("exercise_")}
+    assert set(WRONG_ANSWERS) == set(RIGHT) == names
+    assert all(len(wrong) >= 3 for wrong in WRONG_ANSWERS.values())
+
+
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_the_right_answer_is_correct(name):
+    assert _ok(getattr(ch, name), RIGHT[name])
 
 
 @pytest.mark.parametrize(
-    ("test", "answer"),
-    [(t, a) for t, answers in WRONG.items() for a in answers],
-    ids=lambda x: getattr(x, "__name__", None),
+    ("name", "k"), [(n, k) for n, wrong in WRONG_ANSWERS.items() for k in range(len(wrong))]
 )
-def test_typical_wrong_answers_are_not_yet(test, answer):
-    out = verdict("Ex", answer, test=test)
+def test_typical_wrong_answers_are_not_yet(name, k):
+    out = verdict("Ex", WRONG_ANSWERS[name][k], test=getattr(ch, name))
     assert out.startswith("Ex: not yet — "), out
 
 
-@pytest.mark.parametrize("test", list(RIGHT), ids=lambda f: f.__name__)
-def test_missing_or_malformed_answers_are_not_yet(test):
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_missing_or_malformed_answers_are_not_yet(name):
     for answer in (None, "one", (1.0, 2.0, 3.0, 4.0), float("nan")):
-        assert verdict("Ex", answer, test=test).startswith("Ex: not yet")
+        assert verdict("Ex", answer, test=getattr(ch, name)).startswith("Ex: not yet")
+
+
+@pytest.mark.parametrize("name", sorted(RIGHT))
+def test_no_message_gives_the_answer_away(name):
+    """A "not yet" message may say what is wrong (a sign, a unit, a factor), never the right
+    value, in any of the ways it could be printed."""
+    for answer in [*WRONG_ANSWERS[name], None, "one"]:
+        message = verdict("Ex", answer, test=getattr(ch, name))
+        assert not _leaks(RIGHT[name], message), (name, message)
 
 
 def test_the_right_turn_answer_reaches_the_end_pose_and_is_the_density_mode():
     """The answer of exercise 4 is not only the library's number: driving it reaches END_4."""
-    v, w, g = RIGHT[ch.exercise_4]
+    v, w, g = RIGHT["exercise_4"]
     assert v == pytest.approx(1.30, abs=0.005) and w < 0
     end = velocity_motion(START, (v, w), 1.0)
     np.testing.assert_allclose(end[:2], ch.END_4[:2], atol=1e-12)

@@ -46,12 +46,13 @@ U_5 = np.array([1.0, 0.8])
 
 def _numbers(answer, n: int):
     """The answer as ``n`` finite floats, or a message."""
+    wanted = "one number" if n == 1 else f"{n} numbers"
     try:
         values = np.asarray(answer, dtype=float).reshape(-1)
     except (TypeError, ValueError):
-        return f"give {n} numbers"
+        return f"give {wanted}"
     if values.size != n:
-        return f"give {n} numbers, got {values.size}"
+        return f"give {wanted}, got {values.size}"
     if not np.all(np.isfinite(values)):
         return "the answer contains NaN or infinity"
     return values
