@@ -88,6 +88,18 @@ SOLUTION = re.compile(
 )
 
 
+def check_names(source):
+    """The exercise names of the ``check("Exercise N", ...)`` calls in ``source``."""
+    return [
+        node.args[0].value
+        for node in ast.walk(ast.parse(source))
+        if isinstance(node, ast.Call)
+        and getattr(node.func, "id", None) == "check"
+        and node.args
+        and isinstance(node.args[0], ast.Constant)
+    ]
+
+
 def solutions(path):
     """``[(exercise name, solution code), ...]`` of a notebook, in order, each right after its
     check cell; fails if a solution is not of the form :data:`SOLUTION` describes."""
@@ -107,8 +119,8 @@ def solutions(path):
         assert "exercise-check" in _tags(before), (
             f"{path.name}: the solution in cell {k} does not follow its check cell"
         )
-        assert f'check("{m["name"]}"' in before.source, (path.name, k, m["name"])
-        assert f'check("{m["name"]}"' in m["code"], (
+        assert m["name"] in check_names(before.source), (path.name, k, m["name"])
+        assert m["name"] in check_names(m["code"]), (
             f"{path.name}: the solution to {m['name']} does not end with its check"
         )
         found.append((m["name"], m["code"]))
