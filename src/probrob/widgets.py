@@ -86,7 +86,10 @@ def _common_controls(distribution, noise):
     check.choice(noise, "noise", ("variance", "std"))
     return {
         "distribution": w.Dropdown(
-            options=list(DISTRIBUTIONS), value=distribution, description="noise distribution"
+            options=list(DISTRIBUTIONS),
+            value=distribution,
+            description="noise distribution",
+            style={"description_width": "initial"},  # the whole label, not "noise dist..."
         ),
         "noise": w.ToggleButtons(
             options=[("α·m² is a variance", "variance"), ("α·|m| is a std", "std")],
