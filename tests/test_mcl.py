@@ -69,6 +69,29 @@ def test_low_variance_counts_are_floor_or_ceil_of_m_times_w(w, seed):
     assert np.all(counts[w == 0] == 0)
 
 
+@pytest.mark.parametrize("offset", [0.0, 0.5, float(np.nextafter(1.0, 0.0))])
+@pytest.mark.parametrize(
+    "w", [[0.0, 0.0, 1.0], [0.5, 0.5], [0.125] * 8 + [0.0], [0.0, 0.25, 0.0, 0.75, 0.0]]
+)
+def test_low_variance_edges_of_the_offset(w, offset):
+    # issue 23, item 3: offset 0 drew zero-weight particles ([0, 0, 1] -> [0, 2, 2]) and
+    # broke the floor/ceil rule ([.5, .5] -> [0, 0]); an offset just below 1 drew index N.
+    # Dyadic weights: the cumulative sums are exact, so the rule holds without round-off.
+    w = np.array(w)
+    for m in (len(w), 8, 16):
+        counts = np.bincount(M.low_variance_sampler(w, m, offset=offset), minlength=len(w))
+        assert np.all(counts[w == 0] == 0)
+        assert np.all((counts == np.floor(m * w)) | (counts == np.ceil(m * w)))
+
+
+def test_low_variance_through_mcl_keeps_no_off_map_particle():
+    poses, u = _path(1)
+    x = np.tile(poses[0], (10, 1))
+    x[:3, 0] = -50.0  # off the map: weight zero
+    out = M.mcl(x, u[0], _scan(poses[1]), ROOM, ANGLES, [0.0] * 4, PARAMS, resample_offset=0.0)
+    assert ROOM.contains(out[:, :2]).all()
+
+
 def test_low_variance_size_other_than_n():
     idx = M.low_variance_sampler([0.5, 0.25, 0.25], size=8, rng=0)
     assert np.array_equal(np.bincount(idx, minlength=3), [4, 2, 2])
@@ -355,9 +378,9 @@ def test_augmented_mcl_bad_averages():
 def test_kld_particle_count_follows_the_bound():
     poses, u = _path(2)
     bins = np.array([0.5, 0.5, np.pi / 18])
-    x = M.uniform_particles(ROOM, 5000, rng=4)
+    x, w = M.uniform_particles(ROOM, 5000, rng=4), None
     for t in range(2):
-        x = M.kld_sampling_mcl(
+        x, w = M.kld_sampling_mcl(
             x,
             u[t],
             _scan(poses[t + 1]),
@@ -365,30 +388,99 @@ def test_kld_particle_count_follows_the_bound():
             ANGLES,
             ALPHA,
             PARAMS,
+            weights=w,
             exponent=0.3,
             rng=t,
             n_min=50,
             n_max=20000,
         )
+        assert w.shape == (len(x),) and w.sum() == pytest.approx(1.0)
         k = M.occupied_bins(x, bins)
         # counted independently of the library's bin labels
         pose = np.column_stack([x[:, :2], wrap_angle(x[:, 2])])
         assert k == len(np.unique(np.floor(pose / bins), axis=0))
         assert 50 <= len(x) <= 20000
         assert len(x) >= min(20000, M.kld_sample_size(k)) if k >= 2 else len(x) == 50
-        # and not far above it: the set stops growing once it meets its bound
-        assert len(x) < 3 * max(50, M.kld_sample_size(max(k, 2)))
+        # Table 8.4's loop stops at the first M with M >= M_chi(k of the first M): one
+        # particle fewer and the bound of its own bins is not met yet
+        if 50 < len(x) < 20000:
+            k_before = M.occupied_bins(x[:-1], bins)
+            assert len(x) - 1 < max(50, M.kld_sample_size(max(k_before, 2)))
+
+
+def _flat_step(n, m_max, seed):
+    """One KLD step from n particles at one pose, with flat weights (issue 23's reproducer)."""
+    poses, u = _path(1)
+    x = np.tile(poses[0], (n, 1))
+    return M.kld_sampling_mcl(
+        x, u[0], _scan(poses[1]), ROOM, ANGLES, [2.0] * 4, PARAMS, exponent=1e-4,
+        n_min=50, n_max=m_max, rng=seed,
+    )
+
+
+def test_kld_draws_a_fresh_motion_sample_for_every_new_particle():
+    # Table 8.4, line 9: each new particle is its own motion sample, so the set holds as many
+    # distinct poses as particles, however few the previous set had (the library's former
+    # order, resampling copies of the N moved particles, held at most N distinct poses)
+    for m_max in (200, 2000, 8000):
+        x, w = _flat_step(50, m_max, seed=1)
+        assert len(x) == m_max  # the flat, wide noise spreads the set: the cap is reached
+        assert len(np.unique(x, axis=0)) == len(x)
+
+
+def test_kld_weights_are_the_new_samples_likelihoods():
+    poses, u = _path(1)
+    x0 = M.uniform_particles(ROOM, 3000, rng=2)
+    x, w = M.kld_sampling_mcl(
+        x0, u[0], _scan(poses[1]), ROOM, ANGLES, ALPHA, PARAMS, exponent=0.3, rng=5
+    )
+    lw = M.measurement_log_weights(x, _scan(poses[1]), ROOM, ANGLES, PARAMS, exponent=0.3)
+    np.testing.assert_allclose(w, np.exp(lw - lw.max()) / np.exp(lw - lw.max()).sum())
+
+
+def test_kld_draws_from_the_previous_weights():
+    # all weight on one particle: every new particle is a motion sample from it
+    poses, u = _path(1)
+    x0 = M.uniform_particles(ROOM, 400, rng=3)
+    w0 = np.zeros(400)
+    w0[17] = 1.0
+    x, _ = M.kld_sampling_mcl(
+        x0, u[0], _scan(poses[1]), ROOM, ANGLES, [0.0] * 4, PARAMS, weights=w0, rng=0
+    )
+    expected = sample_motion_model_odometry(u[0], x0[17], [0.0] * 4, rng=0)
+    np.testing.assert_allclose(x, np.broadcast_to(expected, x.shape), atol=1e-12)
+    with pytest.raises(ValueError, match="weights must have shape"):
+        M.kld_sampling_mcl(
+            x0, u[0], _scan(poses[1]), ROOM, ANGLES, ALPHA, PARAMS, weights=w0[:-1]
+        )
 
 
 def test_kld_respects_n_max_and_checks_its_arguments():
     poses, u = _path(1)
     args = (M.uniform_particles(ROOM, 2000, rng=0), u[0], _scan(poses[1]), ROOM, ANGLES)
-    x = M.kld_sampling_mcl(*args, ALPHA, PARAMS, exponent=0.01, n_max=700, rng=0)
-    assert len(x) == 700
+    x, w = M.kld_sampling_mcl(*args, ALPHA, PARAMS, exponent=0.01, n_max=700, rng=0)
+    assert len(x) == len(w) == 700
     with pytest.raises(ValueError, match="n_min <= n_max"):
         M.kld_sampling_mcl(*args, ALPHA, PARAMS, n_min=10, n_max=5)
     with pytest.raises(ValueError, match="bin_size"):
         M.kld_sampling_mcl(*args, ALPHA, PARAMS, bin_size=(0.5, 0.0, 0.1))
+
+
+def test_kld_sample_size_is_at_least_one_and_delta_below_one_half():
+    # issue 23, item 23: delta = 0.99 gave 0 particles and 0.9999 gave -9
+    for delta in (0.5, 0.99, 0.9999):
+        with pytest.raises(ValueError, match="delta"):
+            M.kld_sample_size(2, 0.05, delta)
+    assert all(M.kld_sample_size(k, 0.05, 0.49) >= 1 for k in (2, 3, 10))
+    with pytest.raises(ValueError, match="epsilon"):
+        M.kld_sample_size(2, 5e-324)  # was OverflowError
+
+
+def test_binning_refuses_what_it_cannot_bin():
+    # issue 23, item 22: int64 bin codes wrapped silently (two particles 1 m apart, 1 bin)
+    with pytest.raises(ValueError, match="particles"):
+        M.occupied_bins([[1e12, 0, 0], [1e12 + 1, 0, 0]], (1e-7, 1, 1))
+    assert M.occupied_bins([[1e6, 0, 0], [1e6 + 1, 0, 0]], (0.5, 1, 1)) == 2
 
 
 # ---------------------------------------------------------------------- estimates and input

@@ -149,10 +149,16 @@ def low_variance_sampler(weights, size=None, rng=None, *, offset=None) -> np.nda
     r"""Return the indices drawn by the low-variance sampler (*Probabilistic Robotics*, Table 4.4).
 
     One random number :math:`r \sim U(0, M^{-1})` (line 3) and the :math:`M` equally spaced
-    pointers :math:`U = r + (m - 1) M^{-1}` (line 7); pointer :math:`m` selects the first
-    particle :math:`i` whose cumulative weight :math:`c = \sum_{j \le i} w^{[j]}` reaches
-    :math:`U` (lines 4–5 and 8–11). Particle :math:`i` is drawn :math:`\lfloor M w^{[i]} \rfloor` or
-    :math:`\lceil M w^{[i]} \rceil` times, and a particle of weight zero never.
+    pointers :math:`U = r + (m - 1) M^{-1}` (line 7); pointer :math:`m` selects the particle
+    :math:`i` whose stretch of the cumulative weights holds it,
+    :math:`c_{i-1} \le U < c_i` with :math:`c_i = \sum_{j \le i} w^{[j]}` (lines 4–5 and
+    8–11). Every stretch is half-open and as long as its weight, so particle :math:`i` is drawn
+    :math:`\lfloor M w^{[i]} \rfloor` or :math:`\lceil M w^{[i]} \rceil` times for every
+    :math:`r` in :math:`[0, M^{-1})`, the end points included, and a particle of weight zero
+    never. (The book's loop, ``while U > c``, takes the closed stretch
+    :math:`c_{i-1} < U \le c_i`; the two differ only when a pointer falls exactly on a
+    :math:`c_i`, which for a drawn :math:`r` has probability zero, but at :math:`r = 0` the
+    closed stretch would draw a particle of weight zero first.)
 
     Parameters
     ----------
@@ -174,13 +180,19 @@ def low_variance_sampler(weights, size=None, rng=None, *, offset=None) -> np.nda
     w = _weights(weights)
     m = w.size if size is None else check.count(size, "size", 1)
     if offset is None:
-        r = check.rng(rng).uniform(0.0, 1.0 / m)  # line 3
+        offset = check.rng(rng).uniform(0.0, 1.0)  # line 3: r = offset / M ~ U(0, 1/M)
     else:
-        r = _unit_draws(offset, "offset", ()) / m  # line 3, r ~ U(0, 1/M) given
-    u = r + np.arange(m) / m  # line 7, for every m at once
-    c = np.cumsum(w)  # lines 4 and 10, accumulated
-    c[-1] = 1.0  # the last pointer is < 1: round-off must not push it past the end
-    return np.searchsorted(c, u, side="left")  # lines 8-11: the first i with c_i >= U
+        offset = _unit_draws(offset, "offset", ())  # line 3, r = offset / M given
+    # Lines 4-11 for every pointer at once, in units of 1/M: pointer k = 0 .. M-1 sits at
+    # k + offset, and M c_i = M sum_{j<=i} w^[j] ends the stretch of particle i. The pointers
+    # below x number floor(x) + [offset < x - floor(x)], computed exactly (no r + k/M is
+    # formed, whose round-off can move a pointer onto the next stretch).
+    c = np.cumsum(w)
+    c[np.flatnonzero(w)[-1] :] = 1.0  # the last pointer is < M: round-off must not lose it
+    x = m * c
+    whole = np.floor(x)
+    below = np.minimum(whole + (offset < x - whole), m).astype(np.intp)
+    return np.repeat(np.arange(w.size), np.diff(below, prepend=0))  # the i with c_{i-1} <= U < c_i
 
 
 def effective_sample_size(weights, *, log=False) -> float:
@@ -516,29 +528,66 @@ def kld_sample_size(k, epsilon=0.05, delta=0.01) -> int:
     epsilon : float
         Error bound :math:`\varepsilon > 0`.
     delta : float
-        :math:`\delta \in (0, 1)`.
+        :math:`\delta \in (0, 1/2)`: a bound that holds with probability :math:`1 - \delta`
+        of at most one half promises nothing (and the formula, with :math:`z_{1-\delta} \le 0`,
+        can fall below one particle).
 
     Returns
     -------
     m : int
-        :math:`\lceil M_\chi \rceil`.
+        :math:`\lceil M_\chi \rceil`, at least 1.
     """
     k = check.count(k, "k", 2)
+    epsilon, z = _kld_constants(epsilon, delta)
+    return int(_kld_bound(np.array([k]), epsilon, z)[0])
+
+
+def _kld_constants(epsilon, delta) -> tuple[float, float]:
+    """(ε, z_{1-δ}) checked, or a ValueError naming the argument."""
     epsilon = check.positive_scalar(epsilon, "epsilon")
-    delta = check.in_range(delta, "delta", 0.0, 1.0)
-    if not 0.0 < delta < 1.0:
-        raise ValueError(f"delta must lie strictly between 0 and 1, got {delta!r}")
-    z = float(norm.isf(delta))  # z_{1-delta}
-    a = 2.0 / (9.0 * (k - 1))
-    m = (k - 1) / (2.0 * epsilon) * (1.0 - a + math.sqrt(a) * z) ** 3
-    return math.ceil(m)
+    delta = check.in_range(delta, "delta", 0.0, 0.5)
+    if not 0.0 < delta < 0.5:
+        raise ValueError(
+            f"delta must lie strictly between 0 and 0.5 (the bound holds with probability "
+            f"1 - delta), got {delta!r}"
+        )
+    return epsilon, float(norm.isf(delta))  # z_{1-delta}
 
 
-def _bin_ids(x: np.ndarray, bin_size: np.ndarray) -> np.ndarray:
-    """One integer per particle, equal for the particles of the same (x, y, θ) histogram bin."""
+# The largest bound returned: far above any particle count a machine can hold.
+_KLD_MAX = 2.0**53
+
+
+def _kld_bound(k: np.ndarray, epsilon: float, z: float) -> np.ndarray:
+    """⌈M_χ(k)⌉ for an int array k >= 2 (Table 8.4, line 15), at least 1; a ValueError
+    when it exceeds 2**53 (an ε too small for a count of particles)."""
+    km1 = k.astype(float) - 1.0
+    a = 2.0 / (9.0 * km1)
+    with np.errstate(over="ignore"):
+        m = km1 / (2.0 * epsilon) * (1.0 - a + np.sqrt(a) * z) ** 3
+    if np.any(~(m <= _KLD_MAX)):
+        raise ValueError(
+            f"the KLD bound exceeds 2**53 particles (epsilon = {epsilon!r} is too small)"
+        )
+    return np.maximum(np.ceil(m), 1.0).astype(np.int64)
+
+
+# Histogram bins are labelled by integer cells; beyond 2**52 cells from the origin a float
+# pose no longer separates neighbouring cells (and int64 codes could wrap).
+_BIN_LIMIT = 2.0**52
+
+
+def _bin_cells(x: np.ndarray, bin_size: np.ndarray, name: str = "particles") -> np.ndarray:
+    """The (x, y, θ) histogram cell of each particle, int64 (N, 3); θ wrapped first."""
     pose = np.column_stack([x[:, :2], wrap_angle(x[:, 2])])
-    cells = np.floor(pose / bin_size).astype(np.int64)
-    return np.unique(cells, axis=0, return_inverse=True)[1].reshape(-1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        scaled = np.floor(pose / bin_size)
+    if not np.all(np.abs(scaled) < _BIN_LIMIT):
+        raise ValueError(
+            f"{name} lie more than 2**52 bins from the origin at bin_size {tuple(bin_size)}: "
+            "they cannot be binned exactly (is bin_size too small, or a pose too far?)"
+        )
+    return scaled.astype(np.int64)
 
 
 def _bin_sizes(bin_size) -> np.ndarray:
@@ -562,7 +611,15 @@ def occupied_bins(particles, bin_size=(0.5, 0.5, np.pi / 18)) -> int:
     k : int
     """
     x = _particles(particles)
-    return int(_bin_ids(x, _bin_sizes(bin_size)).max() + 1)
+    return int(np.unique(_bin_cells(x, _bin_sizes(bin_size)), axis=0).shape[0])
+
+
+def _new_bins(cells: np.ndarray, seen: int) -> np.ndarray:
+    """For the rows ``cells[seen:]``: whether each is the first of its bin among all rows."""
+    _, first = np.unique(cells, axis=0, return_index=True)
+    flag = np.zeros(cells.shape[0], dtype=bool)
+    flag[first] = True
+    return flag[seen:]
 
 
 def kld_sampling_mcl(
@@ -574,6 +631,7 @@ def kld_sampling_mcl(
     alpha,
     params,
     *,
+    weights=None,
     epsilon=0.05,
     delta=0.01,
     bin_size=(0.5, 0.5, np.pi / 18),
@@ -582,58 +640,77 @@ def kld_sampling_mcl(
     sensor="likelihood_field",
     exponent=1.0,
     rng=None,
-) -> np.ndarray:
-    r"""One step of KLD-sampling MCL, with low-variance resampling (*Probabilistic Robotics*, Table 8.4).
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""One step of KLD-sampling MCL (*Probabilistic Robotics*, Table 8.4).
 
-    Table 8.4 draws particles one at a time until their number :math:`M` reaches the bound
-    :math:`M_\chi` of :func:`kld_sample_size` for the :math:`k` histogram bins they occupy.
-    Here the previous particles are moved and weighted once, and the new set is a single
-    low-variance draw (Table 4.4) from them, grown until the bound holds: draw :math:`M`
-    particles, count the bins :math:`k` they occupy, and draw again with
-    :math:`M = M_\chi(k)` while :math:`M < M_\chi(k)`. :math:`M` grows strictly from round to
-    round and is capped at ``n_max``, so the loop ends (:math:`k` itself need not grow with
-    :math:`M`: a larger draw can land in fewer bins). The moved particles' bins are found once;
-    a round costs a low-variance draw, :math:`O(N + M \log N)`, and a count of :math:`M` bin
-    labels, against amcl's :math:`O(NM)` linear searches of the cumulative weights. From a
-    spread-out set the rounds add up to a few times the final :math:`M` in draws. The
-    resampling keeps the low variance that amcl gives up.
+    Each new particle is made as Table 8.4 makes it: an index :math:`j` drawn from the previous
+    set with probability :math:`w_{t-1}^{[j]}` (line 8), a fresh motion sample from
+    :math:`x_{t-1}^{[j]}` (line 9), its weight (line 10); if it falls into an empty histogram
+    bin, :math:`k` grows and with it the bound :math:`M_\chi` of :func:`kld_sample_size`
+    (lines 12–16); particles are made until :math:`M \ge M_\chi` and
+    :math:`M \ge M_{\chi_{min}}` (line 18). The set returned is weighted, as the table's is:
+    the next step draws from its weights.
+
+    The table's loop runs here in rounds, each vectorised: a round draws the missing
+    :math:`M_\chi - M` indices at once by the low-variance sampler (Table 4.4, put in random
+    order), samples their motion and weights them; the first particle of the round after
+    which the table's loop would stop (:math:`M \ge M_\chi(k)`, with :math:`k` counted over
+    every particle made so far, in order) ends the set. A round costs :math:`O(N)` for the
+    draw plus :math:`O(M \log M)` for the bins, against amcl's :math:`O(NM)` linear searches of
+    the cumulative weights; from a spread-out set a step takes a few rounds.
 
     Parameters
     ----------
     particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
         As :func:`mcl`.
+    weights : array_like, shape (N,), optional
+        :math:`w_{t-1}`, the weights of ``particles`` (as this function returned them;
+        default: equal weights).
     epsilon, delta : float
         The KLD bound's :math:`\varepsilon` and :math:`\delta`.
     bin_size : array_like, shape (3,)
         Bin sides in x (m), y (m) and θ (rad).
     n_min, n_max : int
-        Bounds on the number of particles returned (:math:`M_{\chi_{min}}` and a cap).
+        Bounds on the number of particles made (:math:`M_{\chi_{min}}` and a cap).
 
     Returns
     -------
     particles : ndarray, shape (M, 3)
-        ``n_min <= M <= n_max``.
+        :math:`\mathcal X_t`, ``n_min <= M <= n_max``.
+    weights : ndarray, shape (M,)
+        :math:`w_t`, normalised (equal when every particle has weight zero, as in :func:`mcl`).
     """
     x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
         particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
     )
-    kld_sample_size(2, epsilon, delta)  # checks epsilon and delta
+    w_prev = None if weights is None else _weights(weights)
+    if w_prev is not None and w_prev.size != x.shape[0]:
+        raise ValueError(f"weights must have shape ({x.shape[0]},), got {w_prev.shape}")
+    if w_prev is None:
+        w_prev = np.full(x.shape[0], 1.0 / x.shape[0])
+    epsilon, z_delta = _kld_constants(epsilon, delta)
     bins = _bin_sizes(bin_size)
     n_min = check.count(n_min, "n_min", 1)
     n_max = check.count(n_max, "n_max", 1)
     if n_min > n_max:
         raise ValueError(f"need n_min <= n_max, got {n_min} and {n_max}")
-    x_bar = _predict(x, u, alpha, gen)
-    w = _normalise_log(_log_weights(x_bar, z, grid, angles, p, sensor, exponent))
-    bin_of = _bin_ids(x_bar, bins)  # a drawn particle is a copy: its bin is its source's
-    m = n_min
-    while True:
-        idx = low_variance_sampler(w, size=m, rng=gen)
-        k = int(np.count_nonzero(np.bincount(bin_of[idx])))
-        target = n_min if k < 2 else min(n_max, max(n_min, kld_sample_size(k, epsilon, delta)))
-        if m >= target:
-            return x_bar[idx]
-        m = target
+    made, log_w, cells = [], [], np.empty((0, 3), dtype=np.int64)
+    m, k, target = 0, 0, n_min  # line 3: M = 0, k = 0 (and M_chi_min)
+    while m < target:  # line 18
+        j = gen.permutation(low_variance_sampler(w_prev, size=target - m, rng=gen))  # line 8
+        x_new = _predict(x[j], u, alpha, gen)  # line 9
+        lw_new = _log_weights(x_new, z, grid, angles, p, sensor, exponent)  # line 10
+        cells = np.concatenate([cells, _bin_cells(x_new, bins)])
+        k_after = k + np.cumsum(_new_bins(cells, m))  # lines 12-14, after each new particle
+        m_after = m + 1 + np.arange(x_new.shape[0])  # line 17
+        m_chi = np.where(k_after > 1, _kld_bound(np.maximum(k_after, 2), epsilon, z_delta), 0)
+        stop = (m_after >= np.maximum(m_chi, n_min)) | (m_after >= n_max)
+        keep = int(np.argmax(stop)) + 1 if stop.any() else x_new.shape[0]
+        made.append(x_new[:keep])  # line 11
+        log_w.append(lw_new[:keep])
+        m, k = m + keep, int(k_after[keep - 1])
+        target = m if stop.any() else min(n_max, max(n_min, int(m_chi[-1])))
+    return np.concatenate(made), _normalise_log(np.concatenate(log_w))
 
 
 # ---------------------------------------------------------------------- estimates
@@ -721,6 +798,8 @@ class MCLRun:
     """(T,): wall-clock time of each step."""
     snapshots: dict
     """Step index -> particles (n, 3) kept at the steps asked for."""
+    snapshot_weights: dict
+    """Step index -> their weights (n,), normalised (equal but for KLD-sampling's sets)."""
 
 
 def run_mcl(
@@ -753,7 +832,8 @@ def run_mcl(
     method : {"mcl", "augmented", "kld"}
         :func:`mcl`, :func:`augmented_mcl` or :func:`kld_sampling_mcl`.
     keep : iterable of int
-        Steps whose particle sets are kept in :attr:`MCLRun.snapshots` (0 = the initial set).
+        Steps whose particle sets are kept in :attr:`MCLRun.snapshots` (0 = the initial set),
+        their weights in :attr:`MCLRun.snapshot_weights`.
     rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
     on_step : callable, optional
         ``on_step(t, particles)`` after step ``t`` (1-based) returns the particles to go on
@@ -764,6 +844,11 @@ def run_mcl(
     Returns
     -------
     MCLRun
+
+    Notes
+    -----
+    KLD-sampling's sets are weighted (Table 8.4 returns :math:`w_t` with :math:`\mathcal X_t`):
+    the run passes each step's weights to the next and estimates the pose with them.
     """
     x = _particles(particles)
     u_all = check.finite(odometry, "odometry")
@@ -776,23 +861,30 @@ def run_mcl(
         )
     method = check.choice(method, "method", ("mcl", "augmented", "kld"))
     gen = check.rng(rng)
-    keep = {check.count(k, "keep", 0) for k in keep}
     n_steps = u_all.shape[0]
+    if isinstance(keep, str) or not hasattr(keep, "__iter__"):
+        raise ValueError(f"keep must be an iterable of step indices, got {keep!r}")
+    keep = {check.count(k, "keep", 0) for k in keep}
+    if any(k > n_steps for k in keep):
+        raise ValueError(f"keep holds steps after the last one ({n_steps}): {sorted(keep)}")
     est = np.empty((n_steps + 1, 3))
     frac = np.empty(n_steps + 1)
     count = np.empty(n_steps + 1, dtype=np.int64)
     w_slow_t = np.zeros(n_steps + 1)
     w_fast_t = np.zeros(n_steps + 1)
     seconds = np.empty(n_steps)
-    snapshots = {}
+    snapshots, snapshot_weights = {}, {}
     w_slow = w_fast = 0.0
+    w = None  # equal weights, but for KLD-sampling's sets
 
     def record(t, x):
-        e = estimate_pose(x)
+        e = estimate_pose(x, w)
         est[t], frac[t], count[t] = e.pose, e.fraction, x.shape[0]
         w_slow_t[t], w_fast_t[t] = w_slow, w_fast
         if t in keep:
             snapshots[t] = x.copy()
+            n = x.shape[0]
+            snapshot_weights[t] = np.full(n, 1.0 / n) if w is None else w.copy()
 
     record(0, x)
     for t in range(n_steps):
@@ -803,13 +895,15 @@ def run_mcl(
         elif method == "augmented":
             x, w_slow, w_fast = augmented_mcl(*args, w_slow, w_fast, rng=gen, **options)
         else:
-            x = kld_sampling_mcl(*args, rng=gen, **options)
+            x, w = kld_sampling_mcl(*args, weights=w, rng=gen, **options)
         seconds[t] = time.perf_counter() - start
         if on_step is not None:
             replaced = on_step(t + 1, x)
             if replaced is not None:
                 x = _particles(replaced)
+                if w is not None and w.size != x.shape[0]:
+                    w = None  # a new set of another size: equal weights
         record(t + 1, x)
     for arr in (est, frac, count, w_slow_t, w_fast_t, seconds):
         arr.flags.writeable = False
-    return MCLRun(est, frac, count, w_slow_t, w_fast_t, seconds, snapshots)
+    return MCLRun(est, frac, count, w_slow_t, w_fast_t, seconds, snapshots, snapshot_weights)

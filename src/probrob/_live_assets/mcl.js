@@ -106,20 +106,21 @@ function beamSelection(total, k) {
 }
 
 // probrob.mcl.low_variance_sampler with its offset given (Table 4.4): indices into w (n) for
-// m equally spaced pointers r + k / m, r = offset / m, each the first i with c_i >= U
+// m equally spaced pointers k + offset (in units of 1/m), pointer k taking the i with
+// m c_{i-1} <= k + offset < m c_i; the pointers below x number floor(x) + [offset < frac(x)]
 function lowVarianceSampler(w, n, m, offset, out) {
   let total = 0;
   for (let i = 0; i < n; i++) total += w[i];
-  const r = offset / m; // line 3
-  let i = 0;
-  let c = n === 1 ? 1 : w[0] / total; // line 4
-  for (let k = 0; k < m; k++) {
-    const u = r + k / m; // line 5
-    while (c < u && i < n - 1) {
-      i++; // lines 6-8
-      c = i === n - 1 ? 1 : c + w[i] / total; // the last pointer is < 1 (as probrob: c[-1] = 1)
-    }
-    out[k] = i; // line 9
+  let last = n - 1; // the last particle of weight > 0: c = 1 from there (as probrob)
+  while (last > 0 && w[last] === 0) last--;
+  let c = 0;
+  let done = 0;
+  for (let i = 0; i < n; i++) {
+    c = i >= last ? 1 : c + w[i] / total; // lines 4 and 10
+    const x = m * c;
+    const whole = Math.floor(x);
+    const below = Math.min(whole + (offset < x - whole ? 1 : 0), m);
+    while (done < below) out[done++] = i; // lines 5-9
   }
   return out;
 }
