@@ -30,7 +30,8 @@ WRONG_ANSWERS = {
         kld_sample_size(40, 0.05, float(norm.sf(0.99))),  # amcl's pf_z = 0.99 used as z
         kld_sample_size(40, 0.05, 0.01) - 1,  # rounded down
         -kld_sample_size(40, 0.05, 0.01),
-        kld_sample_size(40, 0.05, 0.99),  # δ = 0.99 (a quantile of about -2.33)
+        # δ = 0.99 in the formula (a quantile of about -2.33; kld_sample_size refuses it)
+        math.ceil(39 / 0.1 * (1 - 2 / 351 + math.sqrt(2 / 351) * norm.isf(0.99)) ** 3),
     ],
     "exercise_2": [
         ((0, 0, 0, 0), (0, 0, 0, 0)),

@@ -578,3 +578,9 @@ def test_run_mcl_collects_and_can_kidnap():
         M.run_mcl(x0, u, scans, ROOM, ANGLES, ALPHA, PARAMS, method="ekf")
     with pytest.raises(ValueError, match="scans"):
         M.run_mcl(x0, u, scans[:3], ROOM, ANGLES, ALPHA, PARAMS)
+
+
+def test_an_infinite_density_takes_all_the_weight():
+    # the beam model's short-reading point mass: a reading of 0 where the map's range is 0
+    w = M._normalise_log(np.array([-np.inf, 0.0, np.inf, -3.0, np.inf]))
+    np.testing.assert_array_equal(w, [0.0, 0.0, 0.5, 0.0, 0.5])

@@ -128,7 +128,13 @@ def _weights(weights, name: str = "weights") -> np.ndarray:
 
 def _normalise_log(log_w: np.ndarray) -> np.ndarray:
     """exp(log_w) / sum, shape (N,). When every weight is zero (log -inf) the scan says
-    nothing about the particles: equal weights, the prior kept (as amcl does)."""
+    nothing about the particles: equal weights, the prior kept (as amcl does). An infinite
+    density (+inf: the beam model's short-reading point mass, a reading of 0 where the map's
+    range is 0) is the limit of a weight that outweighs every finite one: such particles
+    share all the weight."""
+    top = log_w == np.inf
+    if top.any():
+        return top / np.count_nonzero(top)
     if not np.any(np.isfinite(log_w)):
         return np.full(log_w.shape, 1.0 / log_w.size)
     return np.exp(log_w - logsumexp(log_w))
@@ -611,12 +617,26 @@ def occupied_bins(particles, bin_size=(0.5, 0.5, np.pi / 18)) -> int:
     k : int
     """
     x = _particles(particles)
-    return int(np.unique(_bin_cells(x, _bin_sizes(bin_size)), axis=0).shape[0])
+    return int(np.unique(_row_labels(_bin_cells(x, _bin_sizes(bin_size)))).size)
+
+
+def _row_labels(cells: np.ndarray) -> np.ndarray:
+    """One int64 per row of ``cells`` (N, 3), equal exactly for equal rows: each column's rank
+    among its distinct values, combined (np.unique over rows sorts 3-column records, ~20
+    times slower)."""
+    label, size = np.zeros(cells.shape[0], dtype=np.int64), 1
+    for column in cells.T:
+        values, rank = np.unique(column, return_inverse=True)
+        size *= values.size
+        if size >= 2**62:  # cannot happen below 2**20 rows; kept exact beyond
+            return np.unique(cells, axis=0, return_inverse=True)[1].reshape(-1)
+        label = label * values.size + rank.reshape(-1)
+    return label
 
 
 def _new_bins(cells: np.ndarray, seen: int) -> np.ndarray:
     """For the rows ``cells[seen:]``: whether each is the first of its bin among all rows."""
-    _, first = np.unique(cells, axis=0, return_index=True)
+    _, first = np.unique(_row_labels(cells), return_index=True)
     flag = np.zeros(cells.shape[0], dtype=bool)
     flag[first] = True
     return flag[seen:]
