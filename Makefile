@@ -1,6 +1,7 @@
 # probrob — build the book, run the tests.
 #   make book    execute every notebook, build the HTML book into _build/html (offline, -W)
-#   make test    ruff + pytest (tests/) + nbval strict over every notebook
+#   make test    ruff + pytest (tests/) + nbval strict over every notebook, then nbval and the
+#                exercise solutions again on numpy's baseline floating-point path
 # The first run of either creates .venv from requirements.txt (a few minutes).
 
 SHELL := bash
@@ -32,13 +33,15 @@ KERNEL_STARTUP_TIMEOUT := 60
 # NB: MPLBACKEND=Agg is set only for plain Python runs (unit tests, benchmarks). Exported to a
 # Jupyter kernel it would replace the inline backend and the notebooks would show no figures.
 
-.PHONY: help venv book test lint format pytest nbval execute lab lab-check bench browser-check \
+.PHONY: help venv book test lint format pytest nbval nbval-fp execute lab lab-check bench \
+        browser-check \
         check-offline \
         clean distclean
 
 help:
 	@echo "make book          execute the notebooks and build the HTML book into $(HTML)/"
-	@echo "make test          ruff check + ruff format --check + pytest tests/ + nbval notebooks/"
+	@echo "make test          ruff check + ruff format --check + pytest tests/ + nbval notebooks/,"
+	@echo "                   then nbval and the exercise solutions on another floating-point path"
 	@echo "make execute       re-execute every notebook and store its outputs in place"
 	@echo "make bench         run the speed benchmarks (benchmarks/bench_*.py)"
 	@echo "make lab           JupyterLab on notebooks/ (live sliders; installs it into .venv once)"
@@ -85,7 +88,7 @@ browser-check: $(STAMP) $(NPM_STAMP)
 	$(BIN)/python .ci/browser_check.py --self-test $(BROWSER_CHECK_ARGS)
 
 # ---- tests -------------------------------------------------------------------------------
-test: lint pytest nbval
+test: lint pytest nbval nbval-fp
 
 lint: $(STAMP)
 	$(BIN)/ruff check .
@@ -109,11 +112,31 @@ sys.exit(f"{len(bad)} unexecuted code cells: run `make execute` and commit the o
 endef
 export CHECK_EXECUTED
 
+NBVAL := $(BIN)/python -m pytest --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
+  --nbval-cell-timeout=$(CELL_TIMEOUT) --nbval-kernel-startup-timeout=$(KERNEL_STARTUP_TIMEOUT)
+
 nbval: $(STAMP)
 	$(BIN)/python -c "$$CHECK_EXECUTED" $(NOTEBOOKS)
-	$(BIN)/python -m pytest --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
-	  --nbval-cell-timeout=$(CELL_TIMEOUT) --nbval-kernel-startup-timeout=$(KERNEL_STARTUP_TIMEOUT) \
-	  notebooks/
+	$(NBVAL) notebooks/
+
+# The same notebooks (and every exercise's solution, tests/test_exercise_solutions.py) once more
+# with numpy's SIMD kernels above its baseline switched off (NPY_DISABLE_CPU_FEATURES, the
+# features .ci/fp_features.py reads from numpy): exp, log, sin, cos and arctan2 then round
+# differently in their last bits, as on a reader's machine of another kind (AVX2, AVX-512,
+# arm64). A particle filter turns such a bit into another run: every claim about random runs
+# must hold here too, and every stored output that nbval compares must be the same. On a CPU
+# with nothing above numpy's baseline the second run takes the same path as the first.
+nbval-fp: $(STAMP)
+	@features="$$($(BIN)/python .ci/fp_features.py)"; \
+	if [ -z "$$features" ]; then \
+	  echo "nbval-fp: numpy dispatches to nothing above its baseline here: same path as nbval"; \
+	fi; \
+	echo "nbval-fp: NPY_DISABLE_CPU_FEATURES=\"$$features\""; \
+	export NPY_DISABLE_CPU_FEATURES="$$features"; \
+	$(BIN)/python .ci/fp_features.py --check; \
+	start=$$SECONDS; \
+	$(NBVAL) notebooks/ tests/test_exercise_solutions.py; \
+	echo "nbval-fp: $$((SECONDS - start)) s with $$features disabled"
 
 format: $(STAMP)
 	$(BIN)/ruff format .

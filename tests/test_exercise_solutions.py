@@ -5,7 +5,9 @@ as a cell right after its check cell, as a reader pasting it would, and each mus
 The stored chapters keep their solutions in collapsed markdown boxes, out of the way of
 JupyterLab's Run All (``tests/test_exercises.py`` checks that form), so nbval never runs them;
 this test is what proves that each exercise can be solved and that its solution is right.
-It executes every chapter once more (about as long as nbval).
+It executes every chapter once more (about as long as nbval). ``make test`` runs it twice: with
+numpy's default floating-point path and, in ``make nbval-fp``, with the SIMD features above the
+baseline disabled (``NPY_DISABLE_CPU_FEATURES``); the kernel is then checked to run without them.
 """
 
 import os
@@ -44,6 +46,12 @@ def _with_solutions(path):
     return nb, inserted
 
 
+_FEATURES_OFF = """\
+from numpy._core._multiarray_umath import __cpu_features__
+assert not any(__cpu_features__.get(f) for f in {!r}), "NPY_DISABLE_CPU_FEATURES not applied"
+"""
+
+
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_every_solution_prints_correct(path, monkeypatch):
     # the build's stall fix, for this test only (tests/test_zmq_wakeup.py tests it unpatched)
@@ -59,6 +67,10 @@ def test_every_solution_prints_correct(path, monkeypatch):
         kernel_name=nb.metadata.get("kernelspec", {}).get("name", "python3"),
         resources={"metadata": {"path": str(path.parent)}},
     )
+    disabled = os.environ.get("NPY_DISABLE_CPU_FEATURES", "").replace(",", " ").split()
+    if disabled:  # the kernel takes the other floating-point path (make nbval-fp)
+        nb.cells.insert(0, nbformat.v4.new_code_cell(_FEATURES_OFF.format(disabled)))
+        inserted = {k + 1: name for k, name in inserted.items()}
     client.execute(env=env)  # a cell that raises fails the test, naming the cell
     wrong = []
     for k, name in inserted.items():

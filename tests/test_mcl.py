@@ -413,8 +413,17 @@ def _flat_step(n, m_max, seed):
     poses, u = _path(1)
     x = np.tile(poses[0], (n, 1))
     return M.kld_sampling_mcl(
-        x, u[0], _scan(poses[1]), ROOM, ANGLES, [2.0] * 4, PARAMS, exponent=1e-4,
-        n_min=50, n_max=m_max, rng=seed,
+        x,
+        u[0],
+        _scan(poses[1]),
+        ROOM,
+        ANGLES,
+        [2.0] * 4,
+        PARAMS,
+        exponent=1e-4,
+        n_min=50,
+        n_max=m_max,
+        rng=seed,
     )
 
 
@@ -423,7 +432,7 @@ def test_kld_draws_a_fresh_motion_sample_for_every_new_particle():
     # distinct poses as particles, however few the previous set had (the library's former
     # order, resampling copies of the N moved particles, held at most N distinct poses)
     for m_max in (200, 2000, 8000):
-        x, w = _flat_step(50, m_max, seed=1)
+        x, _ = _flat_step(50, m_max, seed=1)
         assert len(x) == m_max  # the flat, wide noise spreads the set: the cap is reached
         assert len(np.unique(x, axis=0)) == len(x)
 
@@ -450,9 +459,7 @@ def test_kld_draws_from_the_previous_weights():
     expected = sample_motion_model_odometry(u[0], x0[17], [0.0] * 4, rng=0)
     np.testing.assert_allclose(x, np.broadcast_to(expected, x.shape), atol=1e-12)
     with pytest.raises(ValueError, match="weights must have shape"):
-        M.kld_sampling_mcl(
-            x0, u[0], _scan(poses[1]), ROOM, ANGLES, ALPHA, PARAMS, weights=w0[:-1]
-        )
+        M.kld_sampling_mcl(x0, u[0], _scan(poses[1]), ROOM, ANGLES, ALPHA, PARAMS, weights=w0[:-1])
 
 
 def test_kld_respects_n_max_and_checks_its_arguments():
