@@ -92,21 +92,41 @@ def test_B1_deck_e_step_numbers(em_data):
     assert round(em.z_hit, 3) == 0.698
 
 
+def test_B1_the_deck_e_step_lowers_the_likelihood(em_data):
+    """B1: on the chapter's data the deck's E-step lowers the likelihood at some of its
+    iterations (with either M-step), where EM's never falls."""
+    z, z_star = em_data
+    for m_step in ("exact", "book"):
+        _, deck = learn_intrinsic_parameters(
+            z, z_star, 10.0, e_step="deck", m_step=m_step, full_output=True
+        )
+        assert np.diff(deck.log_likelihood).min() < -1e-4, m_step
+    _, em = learn_intrinsic_parameters(z, z_star, 10.0, full_output=True)
+    assert np.diff(em.log_likelihood).min() > -1e-12
+
+
 def test_B2_hit_density_at_the_range_and_the_deck_point_mass():
     """B2: p_hit(z_max) = 2/(√(2π) σ_hit) ≈ 8/m for σ_hit = 0.1 m when z* = z_max; the
-    printed η then gives the point mass less than a ninth of a max-range reading."""
+    printed η then gives the point mass e_max = 1/(1 + p_hit + p_short) = 0.111, with
+    p_short = 0.0003/m: about a ninth, where it should be 1."""
     p = BeamModelParams(0.7, 0.1, 0.05, 0.15, 0.1, 0.8, 10.0)
     comps = beam_model_components(10.0, 10.0, p)  # at z = z* = z_max: p_rand is 0 there
-    p_hit = comps[0]
+    p_hit, p_short = comps[0], comps[1]
     assert p_hit == pytest.approx(2 / (np.sqrt(2 * np.pi) * 0.1), rel=1e-6)
     assert round(p_hit) == 8
+    assert f"{p_short:.4f}" == "0.0003" and comps[3] == 0.0
     # The deck's E-step for one reading at z_max = z*, with these parameters.
     _, info = learn_intrinsic_parameters(
         [10.0], [10.0], 10.0, init=p, e_step="deck", full_output=True, max_iter=1
     )
     e_max = info.responsibilities[0, 2]
-    assert e_max == pytest.approx(1 / (1 + comps[[0, 1, 3]].sum()), rel=1e-9)
-    assert e_max < 1 / (1 + p_hit) < 1 / 8.9  # "at most a ninth"
+    assert e_max == pytest.approx(1 / (1 + p_hit + p_short), rel=1e-9)
+    assert f"{e_max:.3f}" == "0.111"  # the entry's number
+    assert round(1 / e_max) == 9  # "about a ninth"
+    _, ours = learn_intrinsic_parameters(
+        [10.0], [10.0], 10.0, init=p, full_output=True, max_iter=1
+    )
+    assert ours.responsibilities[0, 2] == 1.0  # "where it should be 1"
 
 
 def test_B3_closed_form_lambda_and_the_nine_sigma_rule(em_data):
@@ -116,6 +136,15 @@ def test_B3_closed_form_lambda_and_the_nine_sigma_rule(em_data):
     book = learn_intrinsic_parameters(z, z_star, 10.0, m_step="book")
     assert round(book.lambda_short, 1) == 1.3
     assert ndtr(-9.0) < np.finfo(float).eps * 1e-2
+
+
+def test_B3_with_the_closed_form_the_likelihood_falls(em_data):
+    """B3: with the closed-form M-step EM's likelihood falls at more than half of its
+    iterations on the chapter's data."""
+    z, z_star = em_data
+    _, info = learn_intrinsic_parameters(z, z_star, 10.0, m_step="book", full_output=True)
+    steps = np.diff(info.log_likelihood)
+    assert np.mean(steps < 0) > 0.5 and steps.min() < -1e-4
 
 
 def test_B4_default_tolerance_is_stated():

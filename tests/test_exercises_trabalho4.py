@@ -56,6 +56,7 @@ def assert_not_yet(name, answer, test, right):
     """``answer`` is "not yet", and its message does not print ``right``."""
     line = verdict(name, answer, test=test)
     assert line.startswith(f"{name}: not yet"), (answer, line)
+    assert "give more digits" not in line, (answer, line)  # a wrong answer hears the concept
     assert_answer_not_printed(line, right)
 
 
@@ -97,18 +98,32 @@ def test_exercise_1_point_mass_count():
         assert_not_yet("Exercise 1", wrong, ch.exercise_1, right=(n, 500))
 
 
+def is_short(name, answer, test):
+    """The check says the answer is right to the digits it gives, and asks for more."""
+    line = verdict(name, answer, test=test)
+    return line.startswith(f"{name}: not yet — give more digits")
+
+
 def test_exercise_2_underflow(intel):
     d, grid = intel
     k = ch.INTEL_SCAN
-    x = d.poses[k] + [0.0, 0.0, np.pi / 2]
+    x = d.poses[k] + [0.0, 0.0, ch.EX2_TURN]
     q_log = beam_range_finder_model(d.ranges[k], x, grid, d.beam_angles, ch.P_INTEL, log=True)
     q_true = beam_range_finder_model(
         d.ranges[k], d.poses[k], grid, d.beam_angles, ch.P_INTEL, log=True
     )
+    quarter = beam_range_finder_model(
+        d.ranges[k], d.poses[k] + [0, 0, np.pi / 2], grid, d.beam_angles, ch.P_INTEL, log=True
+    )
+    assert round(quarter) == -1061  # erratum B7's pose: the exercise asks for another one
+    assert abs(q_log - quarter) > 10
     assert is_correct("Exercise 2", (0.0, q_log), ch.exercise_2)
+    assert is_correct("Exercise 2", (0.0, float(round(q_log))), ch.exercise_2)  # 4 digits
+    assert is_short("Exercise 2", (0.0, float(round(q_log, -1))), ch.exercise_2)
     for wrong in [
         (0.0, -1000.0),  # any very negative number
         (0.0, q_true),  # the corrected pose's log-likelihood
+        (0.0, quarter),  # erratum B7's pose, turned by 90°
         (0.0, -q_log),  # the wrong sign
         (0.0, q_log / np.log(10)),  # log10 for ln
         (1e-300, q_log),  # q_linear that did not underflow
@@ -116,18 +131,25 @@ def test_exercise_2_underflow(intel):
         (q_log, 0.0),  # swapped
     ]:
         assert_not_yet("Exercise 2", wrong, ch.exercise_2, right=(0.0, q_log))
+    assert "corrected pose" in verdict("Exercise 2", (0.0, q_true), test=ch.exercise_2)
 
 
 def test_exercise_3_deck_table_6_2():
     rng = np.random.default_rng(ch.EM_SEED)
     z_star = rng.uniform(0.5, 9.0, ch.EM_SIZE)
     z = sample_beam_mixture(z_star, ch.EM_TRUE, rng=rng)
+    printed = learn_intrinsic_parameters(z, z_star, 10.0, e_step="deck", m_step="book").z_hit
+    z, z_star = z[: ch.EX3_N], z_star[: ch.EX3_N]
     deck = learn_intrinsic_parameters(z, z_star, 10.0, e_step="deck", m_step="book").z_hit
     deck_e = learn_intrinsic_parameters(z, z_star, 10.0, e_step="deck").z_hit
     em = learn_intrinsic_parameters(z, z_star, 10.0).z_hit
+    assert abs(deck - printed) > 2e-3  # the chapter's table (all readings) is not the answer
     assert is_correct("Exercise 3", deck, ch.exercise_3)
-    for wrong in [deck_e, em, 0.7, 0.0, round(deck, 3)]:
+    assert is_correct("Exercise 3", round(deck, 3), ch.exercise_3)  # the 3 digits asked
+    assert is_short("Exercise 3", round(deck, 2), ch.exercise_3)
+    for wrong in [deck_e, em, 0.7, 0.0, printed, round(printed, 3), round(deck_e, 3)]:
         assert_not_yet("Exercise 3", wrong, ch.exercise_3, right=deck)
+    assert "exact M-step" in verdict("Exercise 3", round(deck_e, 3), test=ch.exercise_3)
 
 
 def test_exercise_4_likelihood_field_drop(intel):
@@ -142,6 +164,8 @@ def test_exercise_4_likelihood_field_drop(intel):
     drop = ll(x) - ll(ahead)
     assert drop > 0
     assert is_correct("Exercise 4", drop, ch.exercise_4)
+    assert is_correct("Exercise 4", round(drop, 1), ch.exercise_4)  # 67.6 for 67.569
+    assert is_short("Exercise 4", float(round(drop)), ch.exercise_4)
     for wrong in [
         -drop,  # moved minus corrected
         ll(x) - ll(x + [0.1, 0.0, 0.0]),  # 10 cm along x, not along the heading
@@ -150,23 +174,29 @@ def test_exercise_4_likelihood_field_drop(intel):
         0.0,
     ]:
         assert_not_yet("Exercise 4", wrong, ch.exercise_4, right=drop)
+    assert "moved minus corrected" in verdict("Exercise 4", -round(drop, 1), test=ch.exercise_4)
 
 
 def test_exercise_5_sigma_or_variance(mrclam):
     f, c, m, truth = mrclam
-    sig = np.asarray(ch.LANDMARK_SIGMAS)
+    sig = np.asarray(ch.EX5_SIGMAS)
 
     def lq(s, pose=truth):
         return landmark_model_known_correspondence(f, c, pose, m, s, log=True)
 
     right, deck = lq(sig), lq(np.sqrt(sig))
+    chapter = np.asarray(ch.LANDMARK_SIGMAS)
+    assert abs(right - lq(chapter)) > 0.1  # not the chapter's printed log-likelihood
     assert is_correct("Exercise 5", (right, deck), ch.exercise_5)
+    assert is_correct("Exercise 5", (round(right, 2), round(deck, 3)), ch.exercise_5)
+    assert is_short("Exercise 5", (round(right, 1), deck), ch.exercise_5)
     for wrong in [
         (deck, right),  # swapped
         (right, lq(sig**2)),  # squared the σ instead (the other direction)
         (right, right),  # no difference
         (np.exp(right), np.exp(deck)),  # likelihoods, not logs
         (lq(sig, truth * [1, 1, 0]), deck),  # heading left out (errata L2)
+        (lq(chapter), lq(np.sqrt(chapter))),  # the chapter's SIGMAS
     ]:
         assert_not_yet("Exercise 5", wrong, ch.exercise_5, right=(right, deck))
 
@@ -177,14 +207,47 @@ def test_exercise_6_heading(mrclam):
     theta = float(np.mod(gamma - np.pi - f[1] + np.pi, 2 * np.pi) - np.pi)
     assert abs(theta - truth[2]) < 0.05  # the Vicon heading agrees with the feature
     assert is_correct("Exercise 6", theta, ch.exercise_6)
+    assert is_correct("Exercise 6", round(theta, 3), ch.exercise_6)  # 1.779 for 1.77856
+    assert is_short("Exercise 6", round(theta, 2), ch.exercise_6)
     for wrong in [
         theta + 2 * np.pi,  # not wrapped (same direction, outside [-π, π))
         float(np.mod(gamma - np.pi + f[1] + np.pi, 2 * np.pi) - np.pi),  # + φ for - φ
         float(np.mod(gamma - f[1] + np.pi, 2 * np.pi) - np.pi),  # forgot the π
         np.rad2deg(theta),  # degrees
+        round(float(truth[2]), 3),  # the Vicon heading itself
         0.0,
     ]:
         assert_not_yet("Exercise 6", wrong, ch.exercise_6, right=theta)
+
+
+@pytest.mark.parametrize(
+    ("value", "digits"),
+    [
+        (0.66, 2),
+        (67.569, 5),
+        (1.779, 4),
+        (-1006.0, 4),
+        (1000.0, 1),
+        (67.0, 2),
+        (0.0, 1),
+        (2.5e-10, 2),
+        (0.0875, 3),
+        (3.0, 1),
+    ],
+)
+def test_significant_digits_as_python_writes_the_number(value, digits):
+    assert ch.significant_digits(value) == digits
+
+
+def test_the_digit_rule():
+    """Right to the digits asked (rounded or cut off) passes; right to fewer digits (at
+    least two) is short; anything else is wrong, and so gets the concept message."""
+    t = 67.56869
+    assert [ch.agreement(a, t, 3) for a in (67.6, 67.5, 67.569, 67.56869)] == [None] * 4
+    assert [ch.agreement(a, t, 3) for a in (68.0, 67.0)] == ["short", "short"]
+    assert [ch.agreement(a, t, 3) for a in (67.8, 67.7, 70.0, -67.6, 6.76)] == ["wrong"] * 5
+    assert ch.agreement(67.7001, t, 3) == "wrong"  # many digits, wrong at the third
+    assert ch.agreement(0.0, 0.0, 3) is None and ch.agreement(1e-9, 0.0, 3) == "wrong"
 
 
 def test_checks_never_raise_on_nonsense():
