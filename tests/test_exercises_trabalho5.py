@@ -54,7 +54,7 @@ WRONG_ANSWERS = {
     ],
     "exercise_2": [
         (0.0, RAW),  # zero
-        (0.03, RAW),  # the measurement error itself
+        (0.07, RAW),  # the measurement error itself
         (-WRAPPED, RAW),  # wrong sign
         (RAW, RAW),  # the unwrapped update for (a)
         (WRAPPED, 0.0),  # second part missing
@@ -112,6 +112,7 @@ def test_right_answer_is_correct(name):
 def test_wrong_answer_is_not_yet(name, k):
     message = verdict(name, WRONG_ANSWERS[name][k], test=getattr(ch, name))
     assert message.startswith(f"{name}: not yet — "), message
+    assert "give more digits" not in message, message  # a wrong answer hears the concept
 
 
 def _printed(value):
@@ -142,11 +143,50 @@ def test_the_planted_answer_would_be_caught():
 
 def test_exercise_2_values_and_parts():
     wrapped, raw = ch._exercise_2_truth()
-    assert wrapped == pytest.approx(-0.0278, abs=1e-4)  # the issue's value
-    assert raw == pytest.approx(5.79, abs=0.005)
+    assert wrapped == pytest.approx(0.0635, abs=1e-4)
+    assert raw == pytest.approx(-5.64, abs=0.005)
+    # not erratum F4's step, whose numbers (-0.028 and +5.79 rad) the errata page prints
+    assert abs(wrapped + 0.028) > 0.01 and abs(raw - 5.79) > 1
     assert _ok("Ex 2", (round(WRAPPED, 6), round(RAW, 5)), ch.exercise_2)
     assert "(a)" in verdict("Ex 2", (0.0, RAW), test=ch.exercise_2)
     assert "(b)" in verdict("Ex 2", (WRAPPED, 0.0), test=ch.exercise_2)
+
+
+# Right to the digits each exercise asks for (ch.DIGITS): rounded there, or cut off there.
+ROUNDED = {
+    "exercise_1": round(UPPER_50, 3),  # 4 digits: 3.716
+    "exercise_2": (round(WRAPPED, 4), round(RAW, 2)),  # 3 digits
+    "exercise_3": round(float(norm.cdf(D_M / 2)), 3),
+    "exercise_4": (9, round(GAMMA, 3), round(WM[0], 3), round(WC[0], 3), round(WM[1], 4)),
+    "exercise_5": (round(V11_RIGHT, 4), round(V11_DECK, 2)),  # (0.0875, -9.68)
+}
+# Right, but to fewer digits than asked: "give more digits", not a message about the concept.
+SHORT = {
+    "exercise_1": round(UPPER_50, 2),
+    "exercise_2": (round(WRAPPED, 3), RAW),
+    "exercise_3": round(float(norm.cdf(D_M / 2)), 2),
+    "exercise_4": (9, GAMMA, WM[0], WC[0], round(WM[1], 2)),
+    "exercise_5": (round(V11_RIGHT, 3), V11_DECK),
+}
+
+
+@pytest.mark.parametrize("name", sorted(ROUNDED))
+def test_an_answer_right_to_the_asked_digits_is_correct(name):
+    assert _ok(name, ROUNDED[name], getattr(ch, name))
+
+
+@pytest.mark.parametrize("name", sorted(SHORT))
+def test_an_answer_right_to_fewer_digits_is_told_to_give_more(name):
+    message = verdict(name, SHORT[name], test=getattr(ch, name))
+    assert message == f"{name}: not yet — give more digits: the exercise asks for " + (
+        f"{ch.DIGITS[int(name[-1])]} significant digits"
+    ), message
+
+
+def test_issue_answers_at_three_or_four_digits_pass():
+    """The answers issue 23 found rejected: (0.0875, -9.676) and 3.716 now pass."""
+    assert _ok("Ex 5", (0.0875, -9.676), ch.exercise_5)
+    assert _ok("Ex 1", 3.716, ch.exercise_1)
 
 
 def test_exercise_3_is_not_trivial():

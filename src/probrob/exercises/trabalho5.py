@@ -20,20 +20,40 @@ from scipy.stats import norm
 
 from probrob.angles import wrap_angle
 from probrob.evaluation import chi2_quantile
+from probrob.exercises.trabalho4 import agreement, more_digits
 from probrob.localization import ekf_localization_known_correspondences, ukf_weights
 from probrob.motion import velocity_motion_jacobians
 from probrob.sensors import landmark_measurement, landmark_measurement_jacobian
 
-__all__ = ["exercise_1", "exercise_2", "exercise_3", "exercise_4", "exercise_5"]
+__all__ = [
+    "DIGITS",
+    "EX2_BEARING",
+    "EX2_LANDMARK",
+    "exercise_1",
+    "exercise_2",
+    "exercise_3",
+    "exercise_4",
+    "exercise_5",
+]
 
 # The chapter's measurement noise (σ_r [m], σ_φ [rad], σ_s), used by exercises 2 and 3.
 SIGMAS = np.array([0.1, 0.02, 0.1])
+#: Exercise 2: the landmark behind the robot, and the bearing the camera reports (not the
+#: numbers of erratum F4, whose answer the errata page prints).
+EX2_LANDMARK = (-4.0, -0.2)
+EX2_BEARING = math.pi - 0.02
+#: Significant digits each exercise asks for (exercise 4's L is an integer).
+DIGITS = {1: 4, 2: 3, 3: 3, 4: 4, 5: 3}
 
 
 def _numbers(answer, n: int, what: str):
-    """``answer`` as a float array of ``n`` entries, or the message saying why not."""
+    """``answer`` as a float array of ``n`` entries, or the message saying why not (a string
+    such as ``"3.7"`` is not a number, though numpy would read it as one)."""
     try:
-        a = np.asarray(answer, dtype=float).reshape(-1)
+        raw = np.asarray(answer)
+        if raw.dtype.kind not in "iuf":  # strings, bools, objects, complex
+            raise TypeError
+        a = raw.astype(float).reshape(-1)
     except (TypeError, ValueError):
         return None, f"expected {what}, got {type(answer).__name__}"
     if a.size != n:
@@ -43,8 +63,18 @@ def _numbers(answer, n: int, what: str):
     return a, None
 
 
-def _close(a: float, b: float, rtol: float = 1e-4, atol: float = 1e-9) -> bool:
-    return math.isclose(a, b, rel_tol=rtol, abs_tol=atol)
+def _is(a: float, b: float, digits: int) -> bool:
+    """``a`` is ``b`` to ``digits`` significant digits (the book's rule for answers)."""
+    return agreement(a, b, digits) is None
+
+
+def _verdict(wrong: list[str], parts) -> str | None:
+    """The concept messages if any; else "give more digits" if a part in ``parts``
+    (``[(answer, truth, digits), ...]``) is right only to fewer digits; else ``None``."""
+    if wrong:
+        return "; ".join(wrong)
+    short = [d for a, t, d in parts if agreement(a, t, d) == "short"]
+    return more_digits(max(short)) if short else None
 
 
 def exercise_1(answer):
@@ -52,22 +82,26 @@ def exercise_1(answer):
     a, problem = _numbers(answer, 1, "a number")
     if problem:
         return problem
-    a, n = float(a[0]), 50
-    if _close(a, chi2_quantile(0.975, 3 * n) / n):
+    a, n, d = float(a[0]), 50, DIGITS[1]
+    truth = chi2_quantile(0.975, 3 * n) / n
+    state = agreement(a, truth, d)
+    if state is None:
         return None
-    if _close(a, chi2_quantile(0.975, 3 * n)):
+    if state == "short":
+        return more_digits(d)
+    if _is(a, chi2_quantile(0.975, 3 * n), d):
         return "that is the band of N·(mean NEES): divide by N"
-    if _close(a, chi2_quantile(0.975, n) / n) or _close(a, chi2_quantile(0.975, 3) / n):
+    if _is(a, chi2_quantile(0.975, n) / n, d) or _is(a, chi2_quantile(0.975, 3) / n, d):
         return "N·(mean NEES) is χ² with 3N degrees of freedom"
-    if _close(a, chi2_quantile(0.95, 3 * n) / n):
+    if _is(a, chi2_quantile(0.95, 3 * n) / n, d):
         return "a two-sided 95 % band leaves 2.5 % above it"
     return "the band of N·(mean NEES) is χ² with 3N degrees of freedom"
 
 
 def _exercise_2_truth():
     x = np.zeros(3)
-    landmark = np.array([[-5.0, 0.1, 0.0]])
-    z = np.array([[math.hypot(-5.0, 0.1), -math.pi + 0.01, 0.0]])
+    landmark = np.array([[*EX2_LANDMARK, 0.0]])
+    z = np.array([[math.hypot(*EX2_LANDMARK), EX2_BEARING, 0.0]])
     Sigma = 0.01 * np.eye(3)
     mu, _, _ = ekf_localization_known_correspondences(
         x, Sigma, [0.0, 0.0], z, [0], landmark, 1.0, np.zeros(4), SIGMAS
@@ -85,20 +119,21 @@ def exercise_2(answer):
     if problem:
         return problem
     wrapped, unwrapped = _exercise_2_truth()
+    d = DIGITS[2]
     wrong = []
-    if not _close(a[0], wrapped, rtol=1e-3):
-        if _close(a[0], -wrapped, rtol=1e-3):
+    if agreement(a[0], wrapped, d) == "wrong":
+        if _is(a[0], -wrapped, d):
             wrong.append("(a) has the wrong sign: which way does a bearing error turn the robot?")
-        elif _close(a[0], unwrapped, rtol=1e-3):
+        elif _is(a[0], unwrapped, d):
             wrong.append("(a) is the unwrapped update: wrap the innovation first")
         else:
             wrong.append("(a) is not the EKF's change of heading")
-    if not _close(a[1], unwrapped, rtol=1e-3):
-        if _close(a[1], wrapped, rtol=1e-3):
+    if agreement(a[1], unwrapped, d) == "wrong":
+        if _is(a[1], wrapped, d):
             wrong.append("(b) uses the wrapped innovation; the deck's is the raw z - ẑ")
         else:
             wrong.append("(b) is not K (z - ẑ) with the raw bearing difference")
-    return "; ".join(wrong) or None
+    return _verdict(wrong, [(a[0], wrapped, d), (a[1], unwrapped, d)])
 
 
 def _exercise_3_dm():
@@ -117,15 +152,19 @@ def exercise_3(answer):
     a, problem = _numbers(answer, 1, "a probability")
     if problem:
         return problem
-    p = float(a[0])
+    p, d = float(a[0]), DIGITS[3]
     if not 0.0 <= p <= 1.0:
         return "a probability lies in [0, 1]"
     d_m = _exercise_3_dm()
-    if _close(p, norm.cdf(d_m / 2), rtol=1e-3):
+    truth = norm.cdf(d_m / 2)
+    state = agreement(p, truth, d)
+    if state is None:
         return None
-    if _close(p, norm.cdf(-d_m / 2), rtol=1e-3):
+    if state == "short":
+        return more_digits(d)
+    if _is(p, norm.cdf(-d_m / 2), d):
         return "that is the probability of the wrong choice"
-    if _close(p, norm.cdf(d_m), rtol=1e-3):
+    if _is(p, norm.cdf(d_m), d):
         return "the decision line lies half way between the two predictions"
     return "not Φ(d_M / 2) with d_M from S = H Σ Hᵀ + Q of the first landmark"
 
@@ -135,20 +174,21 @@ def exercise_4(answer):
     a, problem = _numbers(answer, 5, "(L, gamma, w0m, w0c, wi)")
     if problem:
         return problem
-    n = 3 + 2 + 2 * 2
-    if not _close(a[0], n):
+    n, d = 3 + 2 + 2 * 2, DIGITS[4]
+    if a[0] != n:
         return "L counts the pose, the control noise and every feature's measurement noise"
     gamma, wm, wc = ukf_weights(n, ukf_alpha=0.5, beta=2.0, kappa=0.0)
+    truths = [gamma, wm[0], wc[0], wm[1]]
     wrong = []
-    if not _close(a[1], gamma):
-        wrong.append("γ = √(L + λ)" if _close(a[1], gamma**2) else "γ is not √(L + λ)")
-    if not _close(a[2], wm[0]):
+    if agreement(a[1], gamma, d) == "wrong":
+        wrong.append("γ = √(L + λ)" if _is(a[1], gamma**2, d) else "γ is not √(L + λ)")
+    if agreement(a[2], wm[0], d) == "wrong":
         wrong.append("w0(m) = λ / (L + λ)")
-    if not _close(a[3], wc[0]):
+    if agreement(a[3], wc[0], d) == "wrong":
         wrong.append("w0(c) adds 1 - α² + β to w0(m)")
-    if not _close(a[4], wm[1]):
+    if agreement(a[4], wm[1], d) == "wrong":
         wrong.append("wi = 1 / (2 (L + λ))")
-    return "; ".join(wrong) or None
+    return _verdict(wrong, [(v, t, d) for v, t in zip(a[1:], truths, strict=True)])
 
 
 def _exercise_5_truth():
@@ -164,14 +204,15 @@ def exercise_5(answer):
     if problem:
         return problem
     right, deck = _exercise_5_truth()
+    d = DIGITS[5]
     wrong = []
-    if not _close(a[0], right):
-        if _close(a[0], deck):
+    if agreement(a[0], right, d) == "wrong":
+        if _is(a[0], deck, d):
             wrong.append("the first value is the deck's")
-        elif _close(a[0], 0.1 * math.cos(0.5), rtol=1e-6):
+        elif _is(a[0], 0.1 * math.cos(0.5), d):
             wrong.append("Δt cos θ is the straight-line value; the robot turns")
         else:
             wrong.append("the first value is not ∂x'/∂v")
-    if not _close(a[1], deck):
+    if agreement(a[1], deck, d) == "wrong":
         wrong.append("the second value is not the deck's -(sin θ + sin(θ + ωΔt))/ω")
-    return "; ".join(wrong) or None
+    return _verdict(wrong, [(a[0], right, d), (a[1], deck, d)])
