@@ -186,3 +186,108 @@ def test_every_test_a_TR_entry_names_exists():
             current = file or current
             assert current, entry.splitlines()[0]
             assert f"def {name}(" in (root / current).read_text(encoding="utf-8"), (current, name)
+
+
+def test_the_entries_quote_the_lecture():
+    """Each formula and slide title an entry tagged TR gives as the lecture's is in the
+    lecture's text (deck 002), character for character up to spaces, and in the entry
+    (skipped where the decks are not beside the checkout)."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).parent.parent
+    seed = root.parent / "shared" / "seeds" / "002_9887d60ab62234ff.txt"
+    if not seed.exists():
+        pytest.skip("the source decks are not beside the checkout")
+    deck = re.sub(r"\s+", "", seed.read_text(encoding="utf-8"))
+    page = (root / "book" / "errata.md").read_text(encoding="utf-8")
+
+    def entry(tag):
+        start = page.index(f"(errata-{tag})=")
+        end = min(
+            e for e in (page.find("\n(errata-", start + 1), page.find("\n## ", start)) if e > 0
+        )
+        return page[start:end]
+
+    quotes = {
+        "d2": [
+            r"\hat{\nu} = \nu + \text{sample}(\alpha_1 \cdot \nu^2 + \alpha_2 \cdot \omega^2)",
+            r"prob(\nu - \hat{\nu}, \alpha_1 \cdot \nu^2 + \alpha_2 \cdot \omega^2)",
+            r"sample(b) = \frac{1}{2} \sum_{i=1}^{12} rand(-b, b)",
+            r"prob(a, b) = \frac{1}{\sqrt{2\pi}b} e^{-\frac{a^2}{2b^2}}",
+        ],
+        "v1": [
+            r"\sqrt{(\bar{x}' - x_c)^2 + (\bar{y}' - y_c)^2}",
+            r"\sqrt{(\bar{x} - x_c)^2 + (\bar{y} - y_c)^2}",
+            r"\hat{v} = \frac{\Delta\theta \cdot r}{\Delta t}",
+        ],
+        "v2": [
+            r"\Delta\theta = \tan^{-1} \left( \frac{\bar{y}' - y_c}{\bar{x}' - x_c} \right) - \tan^{-1} \left( \frac{\bar{y} - y_c}{\bar{x} - x_c} \right)"
+        ],
+        "v3": [r"\hat{\gamma} = \frac{\bar{\theta}' - \bar{\theta}}{\Delta t} - \omega"],
+        "v4": [r"\hat{\gamma} = \frac{\bar{\theta}' - \bar{\theta}}{\Delta t} - \omega"],
+        "v5": [
+            r"\mu = \frac{1}{2} \frac{(\bar{x} - \bar{x}') \cos \theta + (\bar{y} - \bar{y}') \sin \theta}{(\bar{y} - \bar{y}') \cos \theta - (\bar{x} - \bar{x}') \sin \theta}",
+            r"x' = \bar{x} - \frac{\hat{v}}{\hat{\omega}} \sin \bar{\theta} + \frac{\hat{v}}{\hat{\omega}} \sin (\bar{\theta} + \hat{\omega} \cdot \Delta t)",
+        ],
+        "v6": [
+            r"x_c = \frac{\bar{x} + \bar{x}'}{2} - \mu (\bar{y}' - \bar{y})",
+            r"y_c = \frac{\bar{y} + \bar{y}'}{2} - \mu (\bar{x}' - \bar{x})",
+        ],
+        "o1": [
+            r"\delta_{rot_1} = \tan^{-1} \left( \frac{\bar{y}' - \bar{y}}{\bar{x}' - \bar{x}} \right) - \bar{\theta}",
+            r"\delta_{rot_2} = \bar{\theta}' - \bar{\theta} - \delta_{rot_1}",
+            r"\delta_{rot_1} - \hat{\delta}_{rot_1}",
+            r"\delta_{rot_2} - \hat{\delta}_{rot_2}",
+        ],
+        "o2": [
+            r"x' = x + \hat{\delta}_{trans} \cdot \cos \left( \bar{\theta} + \hat{\delta}_{rot_1} \right)"
+        ],
+        "o4": [
+            r"\delta_{rot_1} = \tan^{-1} \left( \frac{\bar{y}' - \bar{y}}{\bar{x}' - \bar{x}} \right) - \bar{\theta}"
+        ],
+        "o6": [
+            "Odometri Modeli - Kapalı Form",
+            r"p(x', y', \theta') =",
+            r"prob \left( \delta_{rot_1} - \hat{\delta}_{rot_1}, \alpha_1 \cdot |\delta_{rot_1}| + \alpha_2 \cdot \delta_{trans} \right)",
+            r"prob \left( \delta_{trans} - \hat{\delta}_{trans}, \alpha_3 \cdot \delta_{trans} + \alpha_4 \cdot (|\delta_{rot_1}| + |\delta_{rot_2}|) \right)",
+            r"prob \left( \delta_{rot_2} - \hat{\delta}_{rot_2}, \alpha_1 \cdot |\delta_{rot_2}| + \alpha_2 \cdot \delta_{trans} \right)",
+            r"\alpha_1 \cdot \delta_{rot_1}^2 + \alpha_2 \cdot \delta_{trans}^2",
+        ],
+        "w1": [
+            "Odometri - Diferansiyel Sürüşlü Robot",
+            r"R = \frac{d (\Delta S_R + \Delta S_L)}{2 (\Delta S_R - \Delta S_L)}",
+        ],
+        "w2": [
+            "Dış Kinematik",
+            r"R = \frac{\Delta S}{\Delta \theta}",
+            r"\alpha = \theta - \frac{\pi}{2}",
+            r"x = C_x + R \cos \alpha",
+            r"y = C_y + R \sin \alpha",
+            r"x' = C_x + R \cos (\alpha + \Delta \theta)",
+            r"y' = C_y + R \sin (\alpha + \Delta \theta)",
+        ],
+    }
+    tagged = {
+        m[1].lower() for m in re.finditer(r"\(errata-(\w+)\)=\n### \w+ — [^\n]*\bTR\b", page)
+    }
+    assert tagged - {"o3", "o5"} == set(quotes), "every TR entry that quotes the lecture is here"
+    for tag, formulas in quotes.items():
+        text = re.sub(r"\s+", "", entry(tag))
+        for formula in formulas:
+            squeezed = re.sub(r"\s+", "", formula)
+            assert squeezed in deck, (tag, formula)
+            assert squeezed in text, (tag, formula)
+
+
+def test_the_quote_check_can_fail():
+    """The W1 quote as the page once typed it, with thin spaces, is not the lecture's text."""
+    import re
+    from pathlib import Path
+
+    seed = Path(__file__).parent.parent.parent / "shared" / "seeds" / "002_9887d60ab62234ff.txt"
+    if not seed.exists():
+        pytest.skip("the source decks are not beside the checkout")
+    deck = re.sub(r"\s+", "", seed.read_text(encoding="utf-8"))
+    typed = r"R = \frac{d\,(\Delta S_R + \Delta S_L)}{2\,(\Delta S_R - \Delta S_L)}"
+    assert re.sub(r"\s+", "", typed) not in deck
