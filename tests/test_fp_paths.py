@@ -22,7 +22,9 @@ ROOT = Path(__file__).resolve().parent.parent
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 TAG = "nbval-ignore-output"
 # a particle filter's run: the chapter's run() helper or the library's filters themselves
-FILTER_RUN = re.compile(r"(?<![\w.])(run|M\.run_mcl|M\.mcl|M\.augmented_mcl|M\.kld_sampling_mcl)\(")
+FILTER_RUN = re.compile(
+    r"(?<![\w.])(run|M\.run_mcl|M\.mcl|M\.augmented_mcl|M\.kld_sampling_mcl)\("
+)
 # cells whose output is drawn from such runs made in an earlier cell (the player's frames)
 FROM_RUNS = re.compile(r"\bglob\[")
 # an optimizer's iteration and evaluation counts (L-BFGS-B's path follows the last bits)
