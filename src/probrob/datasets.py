@@ -371,8 +371,7 @@ def _cached_or_downloaded(ds: _Dataset, name: str, root: Path, places) -> Path:
     url = f"{base}/{key}" if base else _URLS[key]
     error = _download(key, url, root, base)
     if error is not None:
-        reason = " ".join(f"{type(error).__name__}: {error}".split())
-        _not_found(ds, name, places, why=f"Downloading it from {url} failed: {reason}", cache=root)
+        _not_found(ds, name, places, why=f"Downloading it from {url} failed: {error}", cache=root)
     _verify(ds, file)  # pooch checked the sha256; this remembers the file as verified
     return file
 
@@ -389,11 +388,11 @@ def _pooch_silenced(pooch):
         logger.setLevel(level)
 
 
-def _download(key: str, url: str, root: Path, base: str | None) -> Exception | None:
+def _download(key: str, url: str, root: Path, base: str | None) -> str | None:
     """Download the registry file ``key`` from ``url`` into ``root/key`` with pooch.
 
-    Returns None once the file is in place with its published sha256, or the exception that
-    stopped the download. A file with another sha256 is deleted by pooch (it downloads into a
+    Returns None once the file is in place with its published sha256, or, in one line, the
+    error that stopped the download. A file with another sha256 is deleted by pooch (it downloads into a
     temporary file beside the target and moves it there only once the hash matches) and
     raises :class:`DatasetCorruptError`.
     """
@@ -427,7 +426,10 @@ def _download(key: str, url: str, root: Path, base: str | None) -> Exception | N
             url=url,
         ) from None
     except (requests.exceptions.RequestException, OSError) as exc:
-        return exc
+        response = getattr(exc, "response", None)
+        if response is not None:  # an HTTP error: pooch leaves its connection open
+            response.close()
+        return " ".join(f"{type(exc).__name__}: {exc}".split())
     return None
 
 
