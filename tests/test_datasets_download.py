@@ -473,3 +473,27 @@ def test_a_fresh_clone_runs_a_chapter_with_downloaded_data(server, monkeypatch, 
     assert stderr == [], "stderr output breaks the book build (-W) and nbval"
     # 12-21 s measured on a loaded 2-core machine; a stalled cell would wait its 120 s
     assert time.monotonic() - start < 90, "a reader's first run took too long"
+
+
+def test_the_book_lists_each_files_public_copy_and_size():
+    """book/datasets.md's table for fetching by hand, and its download sizes, are the
+    registry's."""
+    text = " ".join((ROOT / "book" / "datasets.md").read_text(encoding="utf-8").split())
+    for ds in datasets._DATASETS:
+        row = re.search(rf"\| `{ds.folder}` \| ([^|]*) \| <(\S+)>", text)
+        assert row, ds.folder
+        for f in ds.files:
+            assert f"`{f.name}`" in row.group(1)
+            assert f.url in (row.group(2), row.group(2) + f.name), f.url
+    sizes = {ds.folder: sum(f.size for f in ds.files) for ds in datasets._DATASETS}
+    mrclam, intel, lo, hi = re.search(
+        r"MRCLAM is ([\d.]+) MB, the Intel log ([\d.]+) MB, each LNPR file ([\d.]+)–([\d.]+) MB",
+        text,
+    ).groups()
+    assert f"{sizes['mrclam_dataset7_robot1'] / 1e6:.1f}" == mrclam
+    assert f"{sizes['intel_lab_corrected'] / 1e6:.2f}" == intel
+    lnpr = sorted(f.size / 1e6 for f in datasets._LNPR.files)
+    assert (f"{lnpr[0]:.1f}", f"{lnpr[1]:.1f}") == (lo, hi)
+    readme = " ".join((ROOT / "README.md").read_text(encoding="utf-8").split())
+    (total,) = re.search(r"about (\d+) MB for all three", readme).groups()
+    assert f"{sum(sizes.values()) / 1e6:.0f}" == total
