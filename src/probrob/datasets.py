@@ -90,7 +90,7 @@ CACHE_ENV_VAR = "PROBROB_CACHE"  # the download cache, instead of pooch.os_cache
 URL_ENV_VAR = "PROBROB_DATA_URL"  # a mirror: <URL>/<dataset folder>/<file>
 DOWNLOAD_ENV_VAR = "PROBROB_DOWNLOAD"  # 0: never download
 # A download gives up after 10 s without a connection or 30 s without data, and is tried
-# _RETRIES more times (pooch waits 1 s, then 2 s, between tries).
+# _RETRIES more times (pooch waits 1 s before the first retry, 1 s more before each next).
 _TIMEOUT = (10.0, 30.0)
 _RETRIES = 1
 _LOG = logging.getLogger(__name__)
