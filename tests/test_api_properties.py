@@ -1539,6 +1539,18 @@ API += [
     ),
     Api(mcl.mcl, "map", **_MCL_STEP, examples=20),
     Api(
+        mcl.selective_mcl,
+        "map",
+        **_MCL_STEP,
+        weights=Arg(constant(None), None, [(np.array([1.0, -1.0]), ValueError)]),
+        threshold=Arg(
+            lambda batch: floats([0.0, 0.5, 1.0], 0.0, 1.0),
+            0.5,
+            [(-0.1, ValueError), (1.5, ValueError), *BAD_SCALAR],
+        ),
+        examples=20,
+    ),
+    Api(
         mcl.augmented_mcl,
         "map",
         **_MCL_STEP,
@@ -1577,7 +1589,7 @@ API += [
         beam_angles=BEAM_ANGLES,
         alpha=ALPHAS4,
         params=BEAM_PARAMS,
-        method=Arg(choices("mcl", "augmented", "kld"), "mcl", BAD_CHOICE),
+        method=Arg(choices("mcl", "augmented", "kld", "selective"), "mcl", BAD_CHOICE),
         rng=SEED,
         skip_valid=True,  # its record holds wall-clock times; tests/test_mcl.py runs it
     ),

@@ -277,9 +277,12 @@ def test_ground_truth_at_interpolates_heading_across_pi():
 
 @pytest.fixture
 def no_defaults(monkeypatch, tmp_path):
-    """No $PROBROB_DATA and a repository whose ../shared/data does not exist."""
+    """No $PROBROB_DATA, a repository whose ../shared/data does not exist, an empty download
+    cache and no download (tests/test_datasets_download.py tests downloading)."""
     monkeypatch.delenv("PROBROB_DATA", raising=False)
     monkeypatch.setattr(datasets, "_REPOSITORY", tmp_path / "nowhere" / "repo")
+    monkeypatch.setenv("PROBROB_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv("PROBROB_DOWNLOAD", "0")
     return tmp_path
 
 
@@ -304,7 +307,10 @@ def test_missing_everywhere_names_file_places_and_url(no_defaults, monkeypatch):
     assert "http://asrl.utias.utoronto.ca/datasets/mrclam/" in msg
     assert "raw.githubusercontent.com/ericguerrero/MUSI-lab-session-1" in msg
     assert info.value.file == "Barcodes.dat"
-    assert len(info.value.places) == 2
+    # the two folders, then the (empty) download cache; downloading is switched off
+    assert info.value.places[-1] == str(no_defaults / "cache" / "mrclam_dataset7_robot1")
+    assert len(info.value.places) == 3
+    assert "Not downloaded: $PROBROB_DOWNLOAD is '0'." in msg
 
 
 def test_missing_with_explicit_empty_folder(no_defaults):
@@ -314,6 +320,8 @@ def test_missing_with_explicit_empty_folder(no_defaults):
         load_mrclam(empty)
     assert str(empty) in str(info.value)
     assert "asrl.utias.utoronto.ca" in str(info.value)
+    assert "Nothing is downloaded when path= is given" in str(info.value)
+    assert len(info.value.places) == 2  # the path and its sub-folder: no download cache
 
 
 @needs_mrclam

@@ -591,3 +591,54 @@ def test_an_infinite_density_takes_all_the_weight():
     # the beam model's short-reading point mass: a reading of 0 where the map's range is 0
     w = M._normalise_log(np.array([-np.inf, 0.0, np.inf, -3.0, np.inf]))
     np.testing.assert_array_equal(w, [0.0, 0.0, 0.5, 0.0, 0.5])
+
+
+# ---------------------------------------------------------------------- selective resampling
+def test_selective_mcl_carries_the_weights_until_n_eff_falls():
+    poses, u = _path(1)
+    x0 = poses[0] + np.random.default_rng(0).normal(0, [0.3, 0.3, 0.1], (400, 3))
+    w0 = np.random.default_rng(1).uniform(0.5, 1.0, 400)
+    z = _scan(poses[1])
+    zero = [0.0] * 4  # no motion noise: the moved particles are known
+    x, w = M.selective_mcl(x0, w0, u[0], z, ROOM, ANGLES, zero, PARAMS, threshold=0.0, rng=3)
+    moved = sample_motion_model_odometry(u[0], x0, zero, rng=0)
+    np.testing.assert_allclose(x, moved, atol=1e-12)
+    lw = M.measurement_log_weights(moved, z, ROOM, ANGLES, PARAMS)
+    expected = w0 * np.exp(lw - lw.max())
+    np.testing.assert_allclose(w, expected / expected.sum(), rtol=1e-9)
+    # threshold 1: any unequal weights resample, and the set comes out equally weighted
+    x1, w1 = M.selective_mcl(x0, w0, u[0], z, ROOM, ANGLES, zero, PARAMS, threshold=1.0, rng=3)
+    np.testing.assert_array_equal(w1, np.full(400, 1 / 400))
+    assert len(np.unique(x1, axis=0)) < 400  # copies: a resampling
+    # between: it resamples exactly when N_eff < threshold * M
+    n_eff = 1 / np.sum((expected / expected.sum()) ** 2)
+    for thr in (0.9 * n_eff / 400, 1.1 * n_eff / 400):
+        _, wt = M.selective_mcl(x0, w0, u[0], z, ROOM, ANGLES, zero, PARAMS, threshold=thr)
+        assert np.all(wt == wt[0]) == (n_eff < thr * 400)
+
+
+def test_selective_mcl_in_a_run_resamples_on_some_steps_only():
+    poses, u = _path(12)
+    z = np.array([_scan(p) for p in poses[1:]])
+    x0 = poses[0] + np.random.default_rng(2).normal(0, [0.05, 0.05, 0.02], (300, 3))
+    run = M.run_mcl(
+        x0,
+        u,
+        z,
+        ROOM,
+        ANGLES,
+        ALPHA,
+        PARAMS,
+        method="selective",
+        exponent=0.2,
+        threshold=0.5,
+        rng=4,
+    )
+    assert 0 < run.resampled.sum() < len(u)
+    assert np.all(M.run_mcl(x0, u, z, ROOM, ANGLES, ALPHA, PARAMS, rng=4).resampled)
+    err = np.hypot(*(run.estimates[:, :2] - poses[:, :2]).T)
+    assert err.max() < 0.3
+    with pytest.raises(ValueError, match="threshold"):
+        M.selective_mcl(x0, None, u[0], z[0], ROOM, ANGLES, ALPHA, PARAMS, threshold=1.5)
+    with pytest.raises(ValueError, match="weights must have shape"):
+        M.selective_mcl(x0, np.ones(3), u[0], z[0], ROOM, ANGLES, ALPHA, PARAMS)

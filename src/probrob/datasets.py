@@ -15,19 +15,36 @@ Three datasets, each in its own folder (never copied into this repository):
 
 **Where the files are looked for**, in this order:
 
-1. the ``path`` argument, if given — then *only* there (a typo in an explicit path must
-   not silently load another copy). ``path`` may be the dataset's folder itself or a data
-   folder holding it (``path/<folder>``);
+1. the ``path`` argument, if given — then *only* there, and nothing is downloaded (a typo
+   in an explicit path must not silently load another copy). ``path`` may be the dataset's
+   folder itself or a data folder holding it (``path/<folder>``);
 2. ``$PROBROB_DATA/<folder>``, if the environment variable is set and not empty;
 3. ``shared/data/<folder>`` in the folder that holds the repository (the checkout that
-   holds this module, ``src/probrob/datasets.py``, editable install).
+   holds this module, ``src/probrob/datasets.py``, editable install);
+4. ``<cache>/<folder>``, the download cache: files downloaded before (checked again like any
+   other); ``<cache>`` is ``$PROBROB_CACHE`` if set and not empty, else the user's cache
+   folder for ``probrob`` (``pooch.os_cache("probrob")``: ``~/.cache/probrob`` on Linux,
+   ``~/Library/Caches/probrob`` on macOS, ``%LOCALAPPDATA%\probrob\probrob\Cache`` on
+   Windows);
+5. a download, with `pooch <https://www.fatiando.org/pooch/>`_, of each file still missing
+   into the cache: from the byte-identical public copy each file's ``SOURCE.md`` names, or,
+   if ``$PROBROB_DATA_URL`` is set, from ``$PROBROB_DATA_URL/<folder>/<file>`` (so a web
+   server of a data folder laid out like the one beside the repository is a mirror). Set
+   ``PROBROB_DOWNLOAD=0`` to never download (steps 1–4 still apply).
 
-The first of these folders that holds any of the dataset's files is used. A missing file
-raises :class:`DatasetNotFoundError` (a ``FileNotFoundError``) naming the file, every place
-looked and the publisher's download address. Every file read is checked against the sha256
-published in the dataset's ``SOURCE.md`` (streamed hashing; a verified ``(path, size,
-mtime)`` is remembered for the session), and a mismatch raises :class:`DatasetCorruptError`
-(a ``ValueError``).
+The first of the folders 1–3 that holds any of the dataset's files is used; only if none
+does, the cache (4) and the download (5) supply the files one by one. ``$PROBROB_DATA`` set
+does not stop the download: like the folder beside the repository, it is a place looked in
+first, not the only one. A missing file raises :class:`DatasetNotFoundError` (a
+``FileNotFoundError``) naming the file, every place looked, why it was not downloaded (the
+download's error, in one line, if one was tried) and the publisher's download address.
+Every file read is checked against the sha256 published in the dataset's ``SOURCE.md``
+(streamed hashing; a verified ``(path, size, mtime)`` is remembered for the session), and a
+mismatch raises :class:`DatasetCorruptError` (a ``ValueError``); a downloaded file whose
+sha256 is wrong is deleted, never kept in the cache (a corrupt file already in the cache is
+downloaded again). The loaders print nothing: pooch's log messages are silenced while it
+downloads, and this module logs each download at ``INFO`` level (logger
+``probrob.datasets``).
 
 **What comes back**: frozen dataclasses of float64 numpy arrays in SI units (m, s, rad).
 Parsed results are cached per (folder, file sizes, modification times), so a second load in
@@ -37,13 +54,16 @@ False) — take a ``.copy()`` before modifying one in place.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import gzip
 import hashlib
+import logging
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import NamedTuple
+from typing import NamedTuple, NoReturn
 
 import numpy as np
 
@@ -65,18 +85,27 @@ __all__ = [
 
 # src/probrob/datasets.py -> the repository root (src layout).
 _REPOSITORY = Path(__file__).resolve().parents[2]
-ENV_VAR = "PROBROB_DATA"
+ENV_VAR = "PROBROB_DATA"  # a data folder holding the dataset folders
+CACHE_ENV_VAR = "PROBROB_CACHE"  # the download cache, instead of pooch.os_cache("probrob")
+URL_ENV_VAR = "PROBROB_DATA_URL"  # a mirror: <URL>/<dataset folder>/<file>
+DOWNLOAD_ENV_VAR = "PROBROB_DOWNLOAD"  # 0: never download
+# A download gives up after 10 s without a connection or 30 s without data, and is tried
+# _RETRIES more times (pooch waits 1 s before the first retry, 1 s more before each next).
+_TIMEOUT = (10.0, 30.0)
+_RETRIES = 1
+_LOG = logging.getLogger(__name__)
 
 
 class DatasetNotFoundError(FileNotFoundError):
-    """A dataset file is not in any of the places looked.
+    """A dataset file is not in any of the places looked, and was not downloaded.
 
     Attributes
     ----------
     file : str
         The missing file's name.
     places : list of str
-        Every folder looked in, in search order.
+        Every folder looked in, in search order (the download cache last, unless ``path``
+        was given).
     url : str
         Where to download the dataset from its publisher.
     """
@@ -97,9 +126,10 @@ class DatasetCorruptError(ValueError):
     Attributes
     ----------
     file : str
-        The full path of the file that failed the check.
+        The full path of the file that failed the check; for a download, the place in the
+        download cache it was refused (the file is not kept).
     url : str
-        Where to download an intact copy.
+        Where to download an intact copy; for a download, the address it came from.
     """
 
     def __init__(self, message: str, *, file: str, url: str):
@@ -216,6 +246,13 @@ _LNPR = _Dataset(
 )
 
 
+# The download registry, as pooch takes it: "<folder>/<file>" -> "sha256:<hex>", and each
+# file's own address (used unless $PROBROB_DATA_URL names a mirror).
+_DATASETS = (_MRCLAM, _INTEL, _LNPR)
+_REGISTRY = {f"{ds.folder}/{f.name}": f"sha256:{f.sha256}" for ds in _DATASETS for f in ds.files}
+_URLS = {f"{ds.folder}/{f.name}": f.url for ds in _DATASETS for f in ds.files}
+
+
 # --------------------------------------------------------------------------- finding files
 
 
@@ -249,8 +286,44 @@ def _places(ds: _Dataset, path) -> list[tuple[Path, str]]:
     return places
 
 
+def _cache_root() -> Path:
+    """The download cache: ``$PROBROB_CACHE``, else ``pooch.os_cache("probrob")``."""
+    env = os.environ.get(CACHE_ENV_VAR, "")
+    if env:
+        return Path(env).expanduser()
+    import pooch  # only when the files are not beside the repository: ~0.1 s to import
+
+    return Path(pooch.os_cache("probrob")).expanduser()
+
+
+def _download_allowed() -> bool:
+    value = os.environ.get(DOWNLOAD_ENV_VAR, "")
+    if value.strip().lower() in ("", "1", "true", "yes", "on"):
+        return True
+    if value.strip().lower() in ("0", "false", "no", "off"):
+        return False
+    raise ValueError(
+        f"${DOWNLOAD_ENV_VAR} must be 0 (never download a missing dataset file) or 1 (download "
+        f"it into the cache, the default when unset), got {value!r}"
+    )
+
+
+def _base_url() -> str | None:
+    """``$PROBROB_DATA_URL`` without its trailing slashes, or None when unset or empty."""
+    url = os.environ.get(URL_ENV_VAR, "").strip()
+    if not url:
+        return None
+    if not url.startswith(("http://", "https://")):
+        raise ValueError(
+            f"${URL_ENV_VAR} must be an http:// or https:// address under which "
+            f"<dataset folder>/<file> is served, got {url!r}"
+        )
+    return url.rstrip("/")
+
+
 def _locate(ds: _Dataset, names: tuple[str, ...], path) -> dict[str, Path]:
-    """Return ``{name: file}`` for ``names``, all from the first folder holding any of them."""
+    """Return ``{name: file}`` for ``names``: all from the first folder holding any of them,
+    else each from the download cache (downloading it there if missing)."""
     places = _places(ds, path)
     for folder, _ in places:
         if folder.is_dir() and any((folder / n).is_file() for n in names):
@@ -258,11 +331,116 @@ def _locate(ds: _Dataset, names: tuple[str, ...], path) -> dict[str, Path]:
             if missing:
                 _not_found(ds, missing[0], places, chosen=folder)
             return {n: folder / n for n in names}
-    _not_found(ds, names[0], places)
-    raise AssertionError  # unreachable
+    if path is not None:
+        _not_found(
+            ds,
+            names[0],
+            places,
+            why="Nothing is downloaded when path= is given; without it, a missing file is "
+            "downloaded into the download cache.",
+        )
+    note = "the download cache" + (f", ${CACHE_ENV_VAR}" if os.environ.get(CACHE_ENV_VAR) else "")
+    root = _cache_root()
+    places.append((root / ds.folder, note))
+    return {n: _cached_or_downloaded(ds, n, root, places) for n in names}
 
 
-def _not_found(ds: _Dataset, name: str, places, chosen: Path | None = None):
+def _cached_or_downloaded(ds: _Dataset, name: str, root: Path, places) -> Path:
+    """The file ``name`` in the cache ``root``, checked; downloaded first if it is not there."""
+    file = root / ds.folder / name
+    allowed = _download_allowed()
+    if file.is_file():
+        try:
+            _verify(ds, file)
+            return file
+        except DatasetCorruptError:
+            if not allowed:
+                raise
+            _LOG.info("deleting the corrupt %s from the download cache", file)
+            file.unlink()  # the cache's own copy: replaced by a new download
+    if not allowed:
+        _not_found(
+            ds,
+            name,
+            places,
+            why=f"Not downloaded: ${DOWNLOAD_ENV_VAR} is {os.environ[DOWNLOAD_ENV_VAR]!r}.",
+            cache=root,
+        )
+    base = _base_url()
+    key = f"{ds.folder}/{name}"
+    url = f"{base}/{key}" if base else _URLS[key]
+    error = _download(key, url, root, base)
+    if error is not None:
+        _not_found(ds, name, places, why=f"Downloading it from {url} failed: {error}", cache=root)
+    _verify(ds, file)  # pooch checked the sha256; this remembers the file as verified
+    return file
+
+
+@contextlib.contextmanager
+def _pooch_silenced(pooch):
+    """Pooch logs every download to stderr (its own handler): a notebook cell would show it."""
+    logger = pooch.get_logger()
+    level = logger.level
+    logger.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+
+
+def _download(key: str, url: str, root: Path, base: str | None) -> str | None:
+    """Download the registry file ``key`` from ``url`` into ``root/key`` with pooch.
+
+    Returns None once the file is in place with its published sha256, or, in one line, the
+    error that stopped the download. A file with another sha256 is deleted by pooch (it downloads into a
+    temporary file beside the target and moves it there only once the hash matches) and
+    raises :class:`DatasetCorruptError`.
+    """
+    import pooch
+    import requests
+
+    fetcher = pooch.create(
+        path=root,
+        base_url=base or "",
+        registry=_REGISTRY,
+        urls=None if base else _URLS,
+        retry_if_failed=_RETRIES,
+    )
+    downloader = pooch.HTTPDownloader(progressbar=False, chunk_size=65536, timeout=_TIMEOUT)
+    _LOG.info("downloading %s from %s into %s", key, url, root)
+    try:
+        with _pooch_silenced(pooch):
+            fetcher.fetch(key, downloader=downloader)
+    except ValueError as exc:
+        if "does not match the known hash" not in str(exc):
+            raise
+        folder, name = key.split("/")
+        ds = next(d for d in _DATASETS if d.folder == folder)
+        got = re.search(r"but got (\w+)", str(exc))
+        raise DatasetCorruptError(
+            f"{ds.title}: {name} downloaded from {url} is corrupt or a different version "
+            f"(sha256 {got.group(1) if got else '?'} instead of {ds.file(name).sha256}, as "
+            f"published in SOURCE.md); it was not kept in {root / folder}. The publisher: "
+            f"{ds.publisher}.",
+            file=str(root / key),
+            url=url,
+        ) from None
+    except (requests.exceptions.RequestException, OSError) as exc:
+        response = getattr(exc, "response", None)
+        if response is not None:  # an HTTP error: pooch leaves its connection open
+            response.close()
+        return " ".join(f"{type(exc).__name__}: {exc}".split())
+    return None
+
+
+def _not_found(
+    ds: _Dataset,
+    name: str,
+    places,
+    chosen: Path | None = None,
+    why: str = "",
+    cache: Path | None = None,
+) -> NoReturn:
     looked = []
     for folder, note in places:
         state = "exists" if folder.is_dir() else "does not exist"
@@ -275,10 +453,13 @@ def _not_found(ds: _Dataset, name: str, places, chosen: Path | None = None):
     message = (
         f"{ds.title}: file {name!r} not found.\nLooked in:\n"
         + "\n".join(looked)
+        + (f"\n{why}" if why else "")
         + f"\nDownload the dataset from its publisher: {ds.publisher}\n"
         f"A byte-identical copy of this file: {spec.url}\n"
         f"Put the files in a folder named {ds.folder!r} under ${ENV_VAR} (or under "
-        f"shared/data beside the repository), or pass path=<that folder>."
+        f"shared/data beside the repository"
+        + (f", or under the download cache {cache}" if cache is not None else "")
+        + "), or pass path=<that folder>."
     )
     raise DatasetNotFoundError(
         message, file=name, places=[str(f) for f, _ in places], url=ds.publisher
@@ -616,8 +797,9 @@ def load_mrclam(path=None) -> MRCLAM:
     Parameters
     ----------
     path : str or os.PathLike, optional
-        The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
-        ``shared/data`` beside the repository (see the module docstring).
+        The dataset folder, or a folder holding it; then nothing is downloaded. Default:
+        ``$PROBROB_DATA``, then ``shared/data`` beside the repository, then the download
+        cache, downloading a missing file into it (see the module docstring).
 
     Returns
     -------
@@ -627,11 +809,13 @@ def load_mrclam(path=None) -> MRCLAM:
     Raises
     ------
     DatasetNotFoundError
-        A file is missing (the message lists every place looked and the download address).
+        A file is missing and was not downloaded (the message lists every place looked, why
+        the download was not made or failed, and the download address).
     DatasetCorruptError
-        A file's sha256 differs from the published one.
+        A file's sha256 differs from the published one (a downloaded one is not kept).
     ValueError
-        ``path`` is not a folder.
+        ``path`` is not a folder, or ``$PROBROB_DOWNLOAD`` or ``$PROBROB_DATA_URL`` is not
+        of its form (0 or 1; an http(s) address).
     """
     names = tuple(f.name for f in _MRCLAM.files)
     files = _locate(_MRCLAM, names, path)
@@ -959,8 +1143,9 @@ def load_intel_lab(path=None) -> IntelLab:
     Parameters
     ----------
     path : str or os.PathLike, optional
-        The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
-        ``shared/data`` beside the repository.
+        The dataset folder, or a folder holding it; then nothing is downloaded. Default:
+        ``$PROBROB_DATA``, then ``shared/data`` beside the repository, then the download
+        cache, downloading a missing file into it.
 
     Returns
     -------
@@ -1071,8 +1256,9 @@ def load_lnpr_wall(distance_mm=200, path=None) -> LNPRWall:
     distance_mm : {200, 600}
         The nominal wall distance, selecting ``sensor_data_<distance_mm>.txt``.
     path : str or os.PathLike, optional
-        The dataset folder, or a folder holding it. Default: ``$PROBROB_DATA``, then
-        ``shared/data`` beside the repository.
+        The dataset folder, or a folder holding it; then nothing is downloaded. Default:
+        ``$PROBROB_DATA``, then ``shared/data`` beside the repository, then the download
+        cache, downloading a missing file into it.
 
     Returns
     -------

@@ -51,6 +51,7 @@ __all__ = [
     "measurement_log_weights",
     "occupied_bins",
     "run_mcl",
+    "selective_mcl",
     "uniform_particles",
 ]
 
@@ -427,6 +428,65 @@ def mcl(
     x_bar = _predict(x, u, alpha, gen, sample)  # line 4
     w = _normalise_log(_log_weights(x_bar, z, grid, angles, p, sensor, exponent))  # line 5
     return x_bar[low_variance_sampler(w, rng=gen, offset=resample_offset)]  # lines 8-11
+
+
+def selective_mcl(
+    particles,
+    weights,
+    u,
+    z,
+    grid,
+    beam_angles,
+    alpha,
+    params,
+    *,
+    threshold=0.5,
+    sensor="likelihood_field",
+    exponent=1.0,
+    rng=None,
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""One step of MCL that resamples only when the weights have degenerated (Sec. 4.3.4).
+
+    Table 8.2 with its weights carried over: every particle is moved (line 4) and its weight
+    multiplied by :math:`p(z_t \mid x_t^{[m]}, m)` (line 5); lines 8–11, the low-variance
+    resampling, run only when the effective sample size
+    :math:`N_{eff} = 1 / \sum_m \tilde w_m^2` has fallen below ``threshold`` :math:`\cdot M`
+    (*Probabilistic Robotics*, Sec. 4.3.4, "resampling frequency"). Resampling less often loses
+    fewer particles to the sampler's variance; resampling too seldom lets the weights
+    degenerate.
+
+    Parameters
+    ----------
+    particles : array_like, shape (M, 3)
+    weights : array_like, shape (M,) or None
+        Their weights (normalised here; ``None``: equal).
+    u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
+        As :func:`mcl`.
+    threshold : float in [0, 1]
+        Resample when :math:`N_{eff} < threshold \cdot M`: 1 resamples at every step whose
+        weights are not all equal (as :func:`mcl` does at every step), 0 never.
+
+    Returns
+    -------
+    particles : ndarray, shape (M, 3)
+    weights : ndarray, shape (M,)
+        Normalised; equal after a resampling.
+    """
+    x, u, z, angles, grid, alpha, p, sensor, exponent, gen = _checked(
+        particles, u, z, grid, beam_angles, alpha, params, sensor, exponent, rng
+    )
+    n = x.shape[0]
+    w_prev = np.full(n, 1.0 / n) if weights is None else _weights(weights)
+    if w_prev.size != n:
+        raise ValueError(f"weights must have shape ({n},), got {w_prev.shape}")
+    threshold = check.in_range(threshold, "threshold", 0.0, 1.0)
+    x_bar = _predict(x, u, alpha, gen)  # line 4
+    with np.errstate(divide="ignore"):
+        log_w = np.log(w_prev) + _log_weights(x_bar, z, grid, angles, p, sensor, exponent)
+    w = _normalise_log(log_w)  # line 5, times the weight carried over
+    if 1.0 / np.sum(w * w) < threshold * n:
+        return x_bar[low_variance_sampler(w, rng=gen)], np.full(n, 1.0 / n)  # lines 8-11
+    return x_bar, w
 
 
 # ---------------------------------------------------------------------- Table 8.3
@@ -819,7 +879,12 @@ class MCLRun:
     snapshots: dict
     """Step index -> particles (n, 3) kept at the steps asked for."""
     snapshot_weights: dict
-    """Step index -> their weights (n,), normalised (equal but for KLD-sampling's sets)."""
+    """Step index -> their weights (n,), normalised (equal but for KLD-sampling's and selective
+    resampling's sets)."""
+    resampled: np.ndarray
+    """(T,) bool: whether each step's set came out equally weighted, i.e. resampled (always
+    but for :func:`selective_mcl`, and for it also when a scan weighted every particle alike,
+    as when all have left the map)."""
 
 
 def run_mcl(
@@ -849,8 +914,8 @@ def run_mcl(
         The scan at the end of each step.
     grid, beam_angles, alpha, params
         As :func:`mcl`.
-    method : {"mcl", "augmented", "kld"}
-        :func:`mcl`, :func:`augmented_mcl` or :func:`kld_sampling_mcl`.
+    method : {"mcl", "augmented", "kld", "selective"}
+        :func:`mcl`, :func:`augmented_mcl`, :func:`kld_sampling_mcl` or :func:`selective_mcl`.
     keep : iterable of int
         Steps whose particle sets are kept in :attr:`MCLRun.snapshots` (0 = the initial set),
         their weights in :attr:`MCLRun.snapshot_weights`.
@@ -867,8 +932,9 @@ def run_mcl(
 
     Notes
     -----
-    KLD-sampling's sets are weighted (Table 8.4 returns :math:`w_t` with :math:`\mathcal X_t`):
-    the run passes each step's weights to the next and estimates the pose with them.
+    KLD-sampling's and selective resampling's sets are weighted (Table 8.4 returns :math:`w_t`
+    with :math:`\mathcal X_t`): the run passes each step's weights to the next and estimates the
+    pose with them.
     """
     x = _particles(particles)
     u_all = check.finite(odometry, "odometry")
@@ -879,7 +945,7 @@ def run_mcl(
         raise ValueError(
             f"scans must have shape (T, K) with T = {u_all.shape[0]} (odometry's), got {z_all.shape}"
         )
-    method = check.choice(method, "method", ("mcl", "augmented", "kld"))
+    method = check.choice(method, "method", ("mcl", "augmented", "kld", "selective"))
     gen = check.rng(rng)
     n_steps = u_all.shape[0]
     if isinstance(keep, str) or not hasattr(keep, "__iter__"):
@@ -893,6 +959,7 @@ def run_mcl(
     w_slow_t = np.zeros(n_steps + 1)
     w_fast_t = np.zeros(n_steps + 1)
     seconds = np.empty(n_steps)
+    resampled = np.ones(n_steps, dtype=bool)
     snapshots, snapshot_weights = {}, {}
     w_slow = w_fast = 0.0
     w = None  # equal weights, but for KLD-sampling's sets
@@ -914,8 +981,11 @@ def run_mcl(
             x = mcl(*args, rng=gen, **options)
         elif method == "augmented":
             x, w_slow, w_fast = augmented_mcl(*args, w_slow, w_fast, rng=gen, **options)
-        else:
+        elif method == "kld":
             x, w = kld_sampling_mcl(*args, weights=w, rng=gen, **options)
+        else:
+            x, w = selective_mcl(x, w, *args[1:], rng=gen, **options)
+            resampled[t] = bool(np.all(w == w[0]))
         seconds[t] = time.perf_counter() - start
         if on_step is not None:
             replaced = on_step(t + 1, x)
@@ -924,6 +994,8 @@ def run_mcl(
                 if w is not None and w.size != x.shape[0]:
                     w = None  # a new set of another size: equal weights
         record(t + 1, x)
-    for arr in (est, frac, count, w_slow_t, w_fast_t, seconds):
+    for arr in (est, frac, count, w_slow_t, w_fast_t, seconds, resampled):
         arr.flags.writeable = False
-    return MCLRun(est, frac, count, w_slow_t, w_fast_t, seconds, snapshots, snapshot_weights)
+    return MCLRun(
+        est, frac, count, w_slow_t, w_fast_t, seconds, snapshots, snapshot_weights, resampled
+    )
