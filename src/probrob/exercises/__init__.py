@@ -256,15 +256,26 @@ def agrees(answer, value, *, rtol=1e-6, atol=0.0) -> bool:
     return bool(all(_rounded_from(g, w) for g, w in zip(got[~ok], want[~ok], strict=True)))
 
 
+def _screen(answer) -> str | None:
+    """What :func:`verdict` refuses before any check sees the answer: a string that reads as
+    a number (``"625"``), a bool, NaN, infinity or a complex number, anywhere in it. Words
+    (``"higher"``), functions and other objects go on to the check, which knows whether it
+    asked for them."""
+    for kind in _kinds(answer):
+        if kind in ("numeric string", "bool", "nan", "inf", "complex"):
+            return _NOT_A_NUMBER[kind]
+    return None
+
+
 def _compare(answer, expected, rtol, atol):
     # Real numbers only: a string "4", a complex 4+1j or a bool is not a number (numpy
     # would read "4" as 4.0 and drop the imaginary part of 4+1j, calling both correct).
+    problem = not_a_number(answer)
+    if problem:
+        return problem
     try:
         got = _validation.as_float_array(answer, "answer")
-        is_bool = np.asarray(answer).dtype == bool
     except (TypeError, ValueError):
-        is_bool, got = False, None
-    if got is None or is_bool:
         return f"expected a number or an array of numbers, got {type(answer).__name__}"
     want = np.asarray(expected, dtype=float)
     if got.shape != want.shape:
@@ -324,7 +335,10 @@ def check(
     """Print ``"<name>: correct"`` or ``"<name>: not yet — <what is wrong>"``.
 
     Never raises: an answer that is missing (``None`` or ``...``), of the wrong type or
-    shape, or that makes ``test`` fail or raise, is reported in the printed line.
+    shape, or that makes ``test`` fail or raise, is reported in the printed line. A string
+    that reads as a number (``"625"``), a bool, NaN, infinity or a complex number anywhere in
+    the answer is never correct: it is reported ("expected a number, got a string") before
+    ``test`` or ``expected`` sees it, for every chapter's checks.
 
     Parameters
     ----------
@@ -370,8 +384,8 @@ def verdict(
         problem = "no answer yet: replace the starting line with your answer"
     else:
         try:
-            problem = None
-            if expected is not None:
+            problem = _screen(answer)
+            if problem is None and expected is not None:
                 problem = _compare(answer, expected, rtol, atol)
             if problem is None and test is not None:
                 problem = _test_problem(test(answer))
