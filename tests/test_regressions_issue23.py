@@ -1,0 +1,93 @@
+"""Regression tests for issue 23 (the library's reliability sweep).
+
+Each test failed before its fix; the item number is the issue's. Items 4 and 11 (the exercise
+checks) are tested in ``tests/test_exercises.py`` and ``tests/test_exercise_digits.py``, the
+Turkish exercises of item 19 in ``tests/test_exercises_turkish.py``, the JavaScript mirror of
+``estimate_pose`` (item 2) in ``tests/test_live_mcl.py``, the property classes (item 29) in
+``tests/test_api_properties.py``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from probrob import mcl as M
+from probrob.angles import wrap_angle
+from probrob.maps import OccupancyGrid
+
+PI = np.pi
+
+
+# ------------------------------------------------------- item 2: estimate_pose in (x, y, θ)
+def test_opposite_headings_are_not_averaged_into_one_no_particle_has():
+    # 50 particles at θ = 0 and 50 at θ = π, 5 cm apart: the mean heading was π/2
+    x = np.r_[np.zeros((50, 3)), np.tile([0.05, 0.0, PI], (50, 1))]
+    est = M.estimate_pose(x)
+    assert min(abs(wrap_angle(est.pose[2])), abs(wrap_angle(est.pose[2] - PI))) < 1e-12
+    assert est.fraction == pytest.approx(0.5)
+    assert est.pose[0] == pytest.approx(0.0, abs=1e-15) or est.pose[0] == pytest.approx(0.05)
+    # weighted: the heavier heading wins
+    w = np.r_[np.full(50, 1.0), np.full(50, 1.2)]
+    est = M.estimate_pose(x, w)
+    assert abs(wrap_angle(est.pose[2] - PI)) < 1e-12 and est.fraction == pytest.approx(60 / 110)
+
+
+def test_a_cloud_across_the_heading_cut_is_one_cluster():
+    rng = np.random.default_rng(2)
+    x = np.c_[rng.normal(0, 0.1, (500, 2)), PI + rng.normal(0, 0.1, 500)]
+    est = M.estimate_pose(x)
+    assert est.fraction > 0.99 and abs(wrap_angle(est.pose[2] - PI)) < 0.02
+
+
+def test_the_cluster_spans_less_than_half_a_turn():
+    # headings spread over the whole circle: the estimate is one sector's, never a mean of
+    # headings half a turn apart
+    rng = np.random.default_rng(5)
+    x = np.c_[rng.normal(0, 0.05, (2000, 2)), rng.uniform(-PI, PI, 2000)]
+    est = M.estimate_pose(x, heading_bins=12)
+    near = np.abs(wrap_angle(x[:, 2] - est.pose[2])) <= 2 * (2 * PI / 12)
+    assert est.fraction == pytest.approx(near.mean(), abs=0.02) and est.fraction < 0.45
+    with pytest.raises(ValueError, match="heading_bins"):
+        M.estimate_pose(x, heading_bins=8)
+    with pytest.raises(ValueError, match="heading_bins"):
+        M.estimate_pose(x, heading_bins=12.0)
+
+
+# --------------------------------------- item 22: binning that overflowed or divided by zero
+def test_estimate_pose_far_from_the_origin_picks_the_heaviest_mode():
+    x = [[1e11, 1e11, 0]] * 5 + [[-1e11, -1e11, 1]] * 2 + [[-1e11, 1e11, 2]]
+    est = M.estimate_pose(x)  # was the 2-particle mode, fraction 0.25 (int64 codes wrapped)
+    np.testing.assert_array_equal(est.pose, [1e11, 1e11, 0.0])
+    assert est.fraction == pytest.approx(5 / 8)
+
+
+@pytest.mark.parametrize(
+    ("particles", "radius"),
+    [
+        ([[1.0, 2.0, 0.0]] * 2 + [[1.0 + 5e-12, 2.0, 0.0]], 1e-13),
+        ([[1e12, -1e12, 0.0]] * 2 + [[1e12 + 5.0, -1e12, 0.1]], 0.5),
+    ],
+)
+def test_estimate_pose_tiny_radius_or_far_particles_no_zero_division(particles, radius):
+    # the bins were clipped at 2**40: every particle in one bin, the cluster around their
+    # mean held none of them, and np.average raised ZeroDivisionError (run_mcl crashed)
+    est = M.estimate_pose(particles, radius=radius)
+    assert est.fraction == pytest.approx(2 / 3)
+    np.testing.assert_array_equal(est.pose[:2], particles[0][:2])
+
+
+def test_estimate_pose_refuses_what_it_cannot_bin_naming_radius():
+    with pytest.raises(ValueError, match=r"particles.*radius"):
+        M.estimate_pose([[1e3, 0.0, 0.0]] * 2, radius=1e-13)
+    with pytest.raises(ValueError, match=r"particles.*radius"):
+        M.estimate_pose([[1e300, 0.0, 0.0]] * 2)
+
+
+def test_world_to_cell_refuses_instead_of_wrapping():
+    grid = OccupancyGrid(np.zeros((4, 4), bool), 0.5)
+    with pytest.raises(ValueError, match="xy"):
+        grid.world_to_cell([1e20, 0.5])  # was cell (1, -9223372036854775808)
+    with pytest.raises(ValueError, match=r"xy = \[0\.0, -1e\+300\]"):
+        grid.world_to_cell([[1.0, 1.0], [0.0, -1e300]])
+    assert grid.world_to_cell([1e10, 0.5]).tolist() == [1, 20_000_000_000]
