@@ -91,3 +91,30 @@ def test_world_to_cell_refuses_instead_of_wrapping():
     with pytest.raises(ValueError, match=r"xy = \[0\.0, -1e\+300\]"):
         grid.world_to_cell([[1.0, 1.0], [0.0, -1e300]])
     assert grid.world_to_cell([1e10, 0.5]).tolist() == [1, 20_000_000_000]
+
+
+# ------------------------------------------------------- item 24: effective sample size
+@pytest.mark.parametrize(
+    ("weights", "log", "n_eff"),
+    [
+        ([1e17, 1e17], True, 2.0),  # was 0.5: log-sum-exp lost the log 2
+        ([-1e17, -1e17, -1e17], True, 3.0),
+        ([1e308, 1e308, 1e308], False, 3.0),  # the sum overflowed (a RuntimeWarning)
+        ([5e-324] * 4, False, 4.0),
+        ([0.0, -np.inf, 0.0], True, 2.0),
+        ([1.0, 1.0, 1.0, 5.0], False, 64 / 28),
+    ],
+)
+def test_effective_sample_size_at_any_scale(weights, log, n_eff):
+    assert M.effective_sample_size(weights, log=log) == pytest.approx(n_eff, rel=1e-15)
+
+
+def test_effective_sample_size_lies_in_one_to_n():
+    rng = np.random.default_rng(24)
+    for scale in (1e-300, 1.0, 1e300):
+        for _ in range(20):
+            w = rng.exponential(size=rng.integers(1, 50)) ** rng.uniform(1, 30)
+            w = w / w.max() * scale
+            assert 1.0 <= M.effective_sample_size(w) <= w.size
+            log_w = rng.normal(0, 1, w.size) * rng.uniform(1, 1e6) + np.log(scale)
+            assert 1.0 <= M.effective_sample_size(log_w, log=True) <= w.size

@@ -118,7 +118,8 @@ def _weights(weights, name: str = "weights") -> np.ndarray:
         raise ValueError(f"{name} must be non-negative, got min {w.min()!r}")
     if np.any(np.isinf(w)):
         raise ValueError(f"{name} must be finite (an infinite weight cannot be normalised)")
-    total = w.sum()
+    with np.errstate(over="ignore"):  # finite weights whose sum overflows: handled below
+        total = w.sum()
     if not total > 0:
         raise ValueError(f"{name} are all zero: there is no particle to resample from")
     if not np.isfinite(total):
@@ -206,7 +207,10 @@ def effective_sample_size(weights, *, log=False) -> float:
     r"""Return :math:`N_{eff} = 1 / \sum_i \tilde w_i^2` of normalised weights :math:`\tilde w`.
 
     *Probabilistic Robotics*, Sec. 4.3.4 (the variance of the weights); ``N`` for equal
-    weights, ``1`` when one particle carries all the weight.
+    weights, ``1`` when one particle carries all the weight, and always in :math:`[1, N]`.
+    Computed as :math:`(\sum_i a_i)^2 / \sum_i a_i^2` of the weights divided by the largest
+    (:math:`a_i = w_i / \max_j w_j`, or :math:`e^{\ell_i - \max_j \ell_j}` of log-weights
+    :math:`\ell`): nothing overflows or underflows away, whatever the weights' scale.
 
     Parameters
     ----------
@@ -214,6 +218,10 @@ def effective_sample_size(weights, *, log=False) -> float:
         Weights (or log-weights with ``log=True``; ``-inf`` allowed there).
     log : bool
         ``weights`` are log-weights.
+
+    Returns
+    -------
+    float
     """
     if check.flag(log, "log"):
         lw = check.as_float_array(weights, "weights")
@@ -221,10 +229,12 @@ def effective_sample_size(weights, *, log=False) -> float:
             raise ValueError("weights (log) must have shape (N,) with no NaN and no +inf")
         if not np.isfinite(lw).any():
             raise ValueError("weights are all zero (log -inf): N_eff is undefined")
-        w = _normalise_log(lw)
+        a = np.exp(lw - lw.max())  # exact 1 at the largest: log-sum-exp loses no log 2 here
     else:
         w = _weights(weights)
-    return float(1.0 / np.sum(w * w))
+        a = w / w.max()
+    n_eff = float(np.sum(a) ** 2 / np.sum(a * a))
+    return min(max(n_eff, 1.0), float(a.size))  # rounding never takes it out of [1, N]
 
 
 # ---------------------------------------------------------------------- initial particles
