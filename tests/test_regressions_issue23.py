@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from probrob import mcl as M
-from probrob.angles import wrap_angle
+from probrob.angles import circular_mean, wrap_angle
 from probrob.maps import OccupancyGrid
 
 PI = np.pi
@@ -118,3 +118,30 @@ def test_effective_sample_size_lies_in_one_to_n():
             assert 1.0 <= M.effective_sample_size(w) <= w.size
             log_w = rng.normal(0, 1, w.size) * rng.uniform(1, 1e6) + np.log(scale)
             assert 1.0 <= M.effective_sample_size(log_w, log=True) <= w.size
+
+
+# ------------------------------------------------------- item 25: circular mean
+@pytest.mark.parametrize("weight", [1e308, 5e-324, 1e-320, 1.0])
+def test_circular_mean_is_blind_to_the_weights_scale(weight):
+    # 1e308: 0.0 with a RuntimeWarning (the sums overflowed); 5e-324: 0.0 (they underflowed)
+    assert circular_mean([0.1, 0.2], [weight, weight]) == pytest.approx(0.15, abs=1e-15)
+
+
+def test_circular_mean_of_near_opposite_angles_is_their_bisector_as_documented():
+    # np.pi lies 1.2e-16 below a half turn: the mean of 0 and np.pi is π/2 (the docstring said 0)
+    assert circular_mean([0.0, PI]) == PI / 2
+    assert circular_mean([PI / 2, -PI / 2]) == 0.0
+    doc = " ".join(circular_mean.__doc__.split())
+    assert "the mean of 0 and ``np.pi`` is their bisector, π/2" in doc
+    assert "0 is returned" not in doc
+
+
+def test_circular_mean_with_no_direction_raises():
+    with pytest.raises(ValueError, match="undefined"):
+        circular_mean([0.3, 0.3], [0.0, 0.0])
+    # a resultant exactly (0, 0) in floating point: cos(a + π) rounds to exactly -cos(a)
+    a = 0.12292057180858407
+    theta = np.array([a, -a, a + PI, -(a + PI)])
+    assert np.sum(np.cos(theta)) == 0.0 and np.sum(np.sin(theta)) == 0.0
+    with pytest.raises(ValueError, match="undefined"):
+        circular_mean(theta)  # was 0.0, a direction that nothing points to
