@@ -145,3 +145,74 @@ def test_circular_mean_with_no_direction_raises():
     assert np.sum(np.cos(theta)) == 0.0 and np.sum(np.sin(theta)) == 0.0
     with pytest.raises(ValueError, match="undefined"):
         circular_mean(theta)  # was 0.0, a direction that nothing points to
+
+
+# ------------------------------------------------------- item 26: read_carmen_log
+def _carmen(tmp_path, extra=(), name="log.txt", n=3):
+    import gzip
+
+    scans = [
+        f"FLASER {n} {' '.join(['1.5'] * (n - 1))} 30 {k} 0 0 {k} 0 0 {k}.0 host {k}.0"
+        for k in range(3)
+    ]
+    text = "\n".join([*extra, *scans]) + "\n"
+    path = tmp_path / name
+    if name.endswith(".gz"):
+        with gzip.open(path, "wt") as fh:
+            fh.write(text)
+    else:
+        path.write_text(text)
+    return path
+
+
+def test_carmen_one_beam_flaser_names_its_line(tmp_path):
+    from probrob.datasets import read_carmen_log
+
+    path = tmp_path / "one.log"
+    path.write_text("FLASER 1 2.5 0 0 0 0 0 0 1.0 host 1.0\n")
+    with pytest.raises(ValueError, match="line 1: FLASER has 1 beam"):  # ZeroDivisionError
+        read_carmen_log(path, max_range=30.0)
+
+
+def test_carmen_truncated_gzip_is_a_valueerror_naming_the_file(tmp_path):
+    from probrob.datasets import read_carmen_log
+
+    good = _carmen(tmp_path, name="log.gz", n=181)
+    cut = tmp_path / "cut.log.gz"
+    cut.write_bytes(good.read_bytes()[:-20])
+    with pytest.raises(ValueError, match=r"path: .*cut\.log\.gz.*\(EOFError"):  # a bare EOFError
+        read_carmen_log(cut)
+    assert read_carmen_log(good).ranges.shape == (3, 181)
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf", "ten"])
+def test_carmen_laser_offset_must_be_a_finite_number(tmp_path, value):
+    from probrob.datasets import read_carmen_log
+
+    path = _carmen(tmp_path, [f"PARAM robot_frontlaser_offset {value}"])
+    # nan was read as a NaN offset silently; "ten" raised float()'s bare ValueError
+    with pytest.raises(ValueError, match="line 1: PARAM robot_frontlaser_offset must be"):
+        read_carmen_log(path)
+    ok = _carmen(tmp_path, ["PARAM robot_frontlaser_offset 0.25", "PARAM robot_name pioneer"])
+    assert read_carmen_log(ok).laser_offset == 0.25
+
+
+@pytest.mark.parametrize(
+    ("max_range", "error"),
+    [
+        ([5], ValueError),  # float() TypeError, naming nothing
+        (np.array([5.0, 6.0]), ValueError),
+        (5 + 0j, TypeError),
+        (True, ValueError),  # was read as 1.0
+        ("30", ValueError),
+        (float("nan"), ValueError),
+        (-1.0, ValueError),
+    ],
+)
+def test_carmen_max_range_is_one_positive_real_number(tmp_path, max_range, error):
+    from probrob.datasets import read_carmen_log
+
+    with pytest.raises(error, match="max_range"):
+        read_carmen_log(_carmen(tmp_path), max_range=max_range)
+    for ok in (30, 30.0, np.float64(30.0), np.int64(30), np.array(30.0)):
+        assert read_carmen_log(_carmen(tmp_path), max_range=ok).max_range == 30.0
