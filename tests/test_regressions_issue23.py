@@ -216,3 +216,65 @@ def test_carmen_max_range_is_one_positive_real_number(tmp_path, max_range, error
         read_carmen_log(_carmen(tmp_path), max_range=max_range)
     for ok in (30, 30.0, np.float64(30.0), np.int64(30), np.array(30.0)):
         assert read_carmen_log(_carmen(tmp_path), max_range=ok).max_range == 30.0
+
+
+# ------------------------------------------ item 27: overflow and batch shapes named, not NaN
+def test_nees_overflow_names_the_argument():
+    from probrob.evaluation import nees
+
+    # was NaN (with a RuntimeWarning)
+    with pytest.raises(ValueError, match=r"x_true = .* out of range: the error x_true - mu"):
+        nees([1e308, 0, 0], [-1e308, 0, 0], np.eye(3))
+    with pytest.raises(ValueError, match=r"(?s)Sigma = .* out of range: the NEES overflows"):
+        nees([1.0, 0, 0], [0.0, 0, 0], 1e-320 * np.eye(3))
+    # headings far apart, or their difference overflowing, are still wrapped exactly
+    assert nees([0, 0, 1e308], [0, 0, -1e308], np.eye(3)) == pytest.approx(
+        float(wrap_angle(wrap_angle(1e308) - wrap_angle(-1e308))) ** 2
+    )
+
+
+def test_frame_errors_overflow_names_the_argument():
+    from probrob.fitting import frame_errors
+
+    with pytest.raises(ValueError, match=r"reference = .* the frame error overflows"):
+        frame_errors([1e308, 0, 0], [-1e308, 0, 0])  # was [inf, nan, 0]
+    np.testing.assert_allclose(frame_errors([1e300, 0, 0], [1e300, 1, 0]), [0, 1, 0])
+
+
+@pytest.mark.parametrize(
+    ("call", "names"),
+    [
+        ("nees(np.zeros((2, 3)), np.zeros((3, 3)), np.eye(3))", ["x_true (2,)", "mu (3,)"]),
+        ("nees(np.zeros((2, 3)), np.zeros(3), np.tile(np.eye(3), (3, 1, 1)))", ["Sigma (3,)"]),
+        ("frame_errors(np.zeros((2, 3)), np.zeros((3, 3)))", ["reference (2,)", "poses (3,)"]),
+        ("beam_mixture([1.0, 2.0], [1.0, 2.0, 3.0], PARAMS)", ["z (2,)", "z_star (3,)"]),
+        ("beam_model_components([1.0, 2.0], [1.0, 2.0, 3.0], PARAMS)", ["z (2,)", "z_star (3,)"]),
+        (
+            "learn_intrinsic_parameters([1.0, 2.0], [1.0, 2.0, 3.0], 10.0)",
+            ["z (2,)", "z_star (3,)"],
+        ),
+    ],
+)
+def test_batch_mismatches_name_the_arguments(call, names):
+    from probrob.evaluation import nees
+    from probrob.fitting import frame_errors
+    from probrob.sensors import (
+        BeamModelParams,
+        beam_mixture,
+        beam_model_components,
+        learn_intrinsic_parameters,
+    )
+
+    scope = {
+        "np": np,
+        "nees": nees,
+        "frame_errors": frame_errors,
+        "beam_mixture": beam_mixture,
+        "beam_model_components": beam_model_components,
+        "learn_intrinsic_parameters": learn_intrinsic_parameters,
+        "PARAMS": BeamModelParams(0.7, 0.1, 0.1, 0.1, 0.2, 0.5, 10.0),
+    }
+    # was numpy's "operands could not be broadcast together", naming no argument
+    with pytest.raises(ValueError, match="batch shapes of the arguments do not broadcast") as e:
+        eval(call, scope)
+    assert all(n in str(e.value) for n in names), str(e.value)

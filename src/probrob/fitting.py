@@ -197,17 +197,28 @@ def frame_errors(reference, poses):
     -------
     errors : ndarray, shape broadcast(...) + (3,)
         :math:`(e_a, e_c, e_\theta)` in m, m and rad (wrapped to :math:`[-\pi, \pi)`).
+
+    Raises
+    ------
+    ValueError
+        If the batch shapes do not broadcast (naming both), or an error overflows float64
+        (naming the most extreme argument).
     """
     reference = check.poses(reference, "reference")
     poses = check.poses(poses, "poses")
+    check.batch_shape(reference=reference.shape[:-1], poses=poses.shape[:-1])
     xr, yr, thr = np.moveaxis(reference, -1, 0)
     x, y, th = np.moveaxis(poses, -1, 0)
-    dx, dy = x - xr, y - yr
     c, s = np.cos(thr), np.sin(thr)
-    return np.stack(
-        np.broadcast_arrays(c * dx + s * dy, c * dy - s * dx, np.asarray(angle_diff(th, thr))),
-        axis=-1,
-    )
+    with np.errstate(over="ignore", invalid="ignore"):
+        dx, dy = x - xr, y - yr
+        errors = np.stack(
+            np.broadcast_arrays(c * dx + s * dy, c * dy - s * dx, np.asarray(angle_diff(th, thr))),
+            axis=-1,
+        )
+    per_pose = np.where(np.all(np.isfinite(errors), axis=-1), 0.0, np.inf)
+    check.no_overflow(per_pose, "the frame error", reference=reference, poses=poses)
+    return errors
 
 
 @dataclass(frozen=True)

@@ -539,6 +539,7 @@ def beam_model_components(z, z_star, params, *, log=False):
     log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
+    check.batch_shape(z=z.shape, z_star=z_star.shape)
     out = _log_components(z, z_star, p)
     return out if log else np.exp(out)
 
@@ -614,6 +615,7 @@ def beam_mixture(z, z_star, params, *, log=False):
     log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
+    check.batch_shape(z=z.shape, z_star=z_star.shape)
     return check.scalar_or_array(_mixture(z, z_star, p, log))
 
 
@@ -885,6 +887,7 @@ def learn_intrinsic_parameters(
     max_range = check.positive_scalar(max_range, "max_range")
     z = _check_ranges(z, "z", max_range)
     z_star = _check_expected(z_star, max_range)
+    check.batch_shape(z=z.shape, z_star=z_star.shape)
     z, z_star = (a.ravel() for a in np.broadcast_arrays(z, z_star))
     if z.size == 0:
         raise ValueError("z must hold at least one reading")
