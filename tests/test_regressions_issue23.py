@@ -278,3 +278,118 @@ def test_batch_mismatches_name_the_arguments(call, names):
     with pytest.raises(ValueError, match="batch shapes of the arguments do not broadcast") as e:
         eval(call, scope)
     assert all(n in str(e.value) for n in names), str(e.value)
+
+
+# ------------------------------------------------------------------ item 28: smaller ones
+def _filter(steps, **kw):
+    from probrob.localization import run_filter
+    from probrob.simulation import grid_landmarks
+
+    m = grid_landmarks(2, 2, 3.0)
+    return run_filter(steps, np.zeros(3), 0.01 * np.eye(3), m, [0.01] * 4, [0.1, 0.1, 0.1], **kw)
+
+
+def _step(**change):
+    from probrob.simulation import Step
+
+    fields = dict(t=0.1, dt=0.1, u=np.array([1.0, 0.0]), z=np.zeros((0, 3)), c=np.zeros(0, int))
+    return Step(**{**fields, **change})
+
+
+class _NoT:
+    dt, u, z, c = 0.1, np.array([1.0, 0.0]), np.zeros((0, 3)), np.zeros(0, int)
+
+
+@pytest.mark.parametrize(
+    ("steps", "message"),
+    [
+        ([], "steps is empty"),  # "cannot reshape array of size 0 into shape (0,newaxis)"
+        ([_NoT()], r"steps\[0\] must have the attributes t, dt, u, z and c .* without t"),
+        ([_step(), _step(t=np.nan)], r"steps\[1\]\.t must be finite"),  # was accepted
+        ([_step(u=np.array([1.0, 0.0, 3.0]))], r"steps\[0\]\.u must be \(v, omega\)"),
+        ([_step(u=["1", "0"])], r"steps\[0\]\.u must be numeric"),  # was read as (1, 0)
+        ([_step(t=[0.1])], r"steps\[0\]\.t must be one number"),  # "setting an array element"
+        ([_step(dt=np.array([0.1, 0.2]))], r"steps\[0\]\.dt must be one number"),
+        ([_step(z=None)], r"steps\[0\]\.z must be the step's features"),  # TypeError
+        ({"a": 1}, "steps must be a sequence of steps"),  # AttributeError on 'str'
+        ("abc", "steps must be a sequence of steps"),
+    ],
+)
+def test_run_filter_names_the_bad_step(steps, message):
+    with pytest.raises(ValueError, match=message):
+        _filter(steps)
+
+
+def test_run_filter_still_runs_good_steps():
+    run = _filter([_step(), _step(t=0.2, u=[1, 0], dt=np.float32(0.1))])
+    assert run.mu.shape == (2, 3) and np.all(np.isfinite(run.mu))
+
+
+@pytest.mark.parametrize("kw", [{"beta": [2.0]}, {"kappa": [0.0]}, {"beta": np.array([2.0])}])
+def test_ukf_parameters_must_be_numbers(kw):
+    from probrob.localization import ukf_weights
+
+    name = next(iter(kw))
+    with pytest.raises(ValueError, match=f"{name} must be a number, got shape"):  # TypeError
+        ukf_weights(5, **kw)
+    with pytest.raises(ValueError, match=f"{name} must be a number"):
+        _filter([_step()], method="ukf", **kw)
+    assert ukf_weights(5, **{name: np.float64(1.0)})[0] > 0
+
+
+def test_chi2_quantile_refuses_a_dof_beyond_float():
+    from probrob.evaluation import chi2_quantile
+
+    with pytest.raises(ValueError, match=r"dof must be at most 2\*\*53"):
+        chi2_quantile(0.5, 10**400)  # OverflowError: int too large to convert to float
+    assert chi2_quantile(0.5, 2**53) == pytest.approx(2.0**53, rel=1e-12)
+
+
+def test_loop_controls_at_the_smallest_period_and_radius():
+    from probrob.simulation import loop_controls
+
+    u = loop_controls(4, 0.5, wiggle=0.1, period=5e-324)  # was NaN: the phase overflowed
+    np.testing.assert_array_equal(u[:, 1], 0.5 / 4.0)  # t is a whole number of periods
+    with pytest.raises(ValueError, match=r"radius = 5e-324 is out of range"):  # ω = inf
+        loop_controls(4, 0.5, radius=5e-324)
+    # an ordinary wiggle is unchanged
+    t = 0.5 * np.arange(40)
+    np.testing.assert_allclose(
+        loop_controls(40, 0.5, wiggle=0.2)[:, 1],
+        0.5 / 4.0 + 0.2 * np.sin(2 * np.pi * t / 5.0),
+        rtol=0,
+        atol=1e-15,
+    )
+
+
+def test_simulate_run_keeps_its_own_read_only_arrays():
+    from probrob.simulation import grid_landmarks, loop_controls, simulate_run
+
+    controls, m = loop_controls(5, 0.5), grid_landmarks(2, 2, 3.0)
+    run = simulate_run(np.zeros(3), controls, 0.5, m, [0.01] * 4, [0.1, 0.05, 0.1], rng=1)
+    assert not np.shares_memory(run.commanded, controls)  # were the caller's, writable
+    assert not np.shares_memory(run.landmarks, m)
+    for name in ("t", "poses", "commanded", "odometry", "landmarks"):
+        with pytest.raises(ValueError, match="read-only"):
+            getattr(run, name)[0] = 0.0
+    controls[0] = 99.0
+    assert run.commanded[0, 0] == 0.5
+
+
+def test_grid_landmarks_peaks_at_its_result():
+    import tracemalloc
+
+    from probrob.simulation import grid_landmarks
+
+    tracemalloc.start()
+    try:
+        m = grid_landmarks(400, 300, (1.0, 2.0), origin=(5.0, -1.0))
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < 1.1 * m.nbytes  # was 2.5 times: meshgrid, ravel and two column_stacks
+    gx, gy = np.meshgrid(5.0 + np.arange(400), -1.0 + 2.0 * np.arange(300))
+    np.testing.assert_array_equal(
+        m, np.column_stack([gx.ravel(), gy.ravel(), np.arange(m.shape[0])])
+    )
+    assert grid_landmarks(2, 1, 1.0, signatures=[7, 8])[:, 2].tolist() == [7.0, 8.0]

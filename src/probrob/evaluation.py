@@ -43,7 +43,7 @@ def chi2_quantile(p: float, dof: int) -> float:
     p : float
         Probability in (0, 1).
     dof : int
-        Degrees of freedom, >= 1.
+        Degrees of freedom, 1 to 2**53 (a float holds it exactly).
 
     Returns
     -------
@@ -54,7 +54,10 @@ def chi2_quantile(p: float, dof: int) -> float:
     if p.ndim != 0 or not 0.0 < p < 1.0:
         raise ValueError(f"p must lie in (0, 1), got {check._short(p)}")
     p = float(p)
-    half = 0.5 * check.count(dof, "dof", 1)
+    dof = check.count(dof, "dof", 1)
+    if dof > 2**53:  # 0.5 * dof must be a float, and one that is the dof exactly
+        raise ValueError(f"dof must be at most 2**53, got {check._short(dof)}")
+    half = 0.5 * dof
     if p > 0.5:
         return 2.0 * float(gammainccinv(half, 1.0 - p))
     return 2.0 * float(gammaincinv(half, p))
