@@ -351,8 +351,8 @@ def live_widget(
         "n": int(n_particles),
         "grid": int(grid),
         "headings": int(headings),
-        "width": int(width),
-        "height": int(height),
+        "width": check.count(width, "width", 1),
+        "height": check.count(height, "height", 1),
         "sliders": [
             {"name": s.name, "value": float(s.value), "min": float(s.lo), "max": float(s.hi)}
             for s in sliders
@@ -1074,8 +1074,8 @@ def particle_filter_live(
     h, w = grid.shape
     config = {
         "kernel": "mcl",
-        "width": int(width),
-        "height": int(height),
+        "width": check.count(width, "width", 1),
+        "height": check.count(height, "height", 1),
         "steps": steps,
         "beamsTotal": int(angles.size),
         "nMax": n_max,

@@ -56,6 +56,8 @@ __all__ = [
 ]
 
 _SENSORS = ("likelihood_field", "beam")
+_LOG_FLOAT_MAX = math.log(np.finfo(float).max)
+_MAX_PARTICLES = 10**9
 
 
 # ---------------------------------------------------------------------- argument checks
@@ -280,6 +282,8 @@ def uniform_particles(grid, n, rng=None, *, free=None, uniforms=None) -> np.ndar
     cells = np.flatnonzero(mask)
     if cells.size == 0:
         raise ValueError("the map has no free cell to draw particles from")
+    if n > _MAX_PARTICLES:  # numpy's "Maximum allowed dimension exceeded", or MemoryError
+        raise ValueError(f"n = {n} particles is more than {_MAX_PARTICLES:.0e}, 24 GB of poses")
     if uniforms is None:
         pick = cells[gen.integers(cells.size, size=n)]
         inside = gen.random((n, 2))
@@ -505,12 +509,16 @@ def augmented_mcl(
     n = x.shape[0]
     x_bar = _predict(x, u, alpha, gen)  # line 6
     log_w = _log_weights(x_bar, z, grid, angles, p, sensor, exponent)  # line 7
-    w_avg = math.exp(logsumexp(log_w) - math.log(n)) if np.isfinite(log_w).any() else 0.0
-    if not math.isfinite(w_avg):
-        raise ValueError(
-            "the mean measurement likelihood w_avg overflows float64 "
-            "(too many beams on a linear scale: use fewer beams or exponent < 1)"
+    log_avg = logsumexp(log_w) - math.log(n) if np.isfinite(log_w).any() else -math.inf
+    if log_avg > _LOG_FLOAT_MAX:  # math.exp would raise OverflowError
+        raise check.overflow_error(
+            f"the mean measurement likelihood w_avg of Table 8.3 (log w_avg = {log_avg:.6g}; "
+            "too many beams on a linear scale: use fewer beams or exponent < 1)",
+            z=z,
+            exponent=exponent,
+            **{"params.sigma_hit": p.sigma_hit, "params.max_range": p.max_range},
         )
+    w_avg = math.exp(log_avg)
     w_slow = float(w_slow) + a_slow * (w_avg - float(w_slow))  # line 11
     w_fast = float(w_fast) + a_fast * (w_avg - float(w_fast))  # line 12
     p_random = max(0.0, 1.0 - w_fast / w_slow) if w_slow > 0 else 0.0  # line 14
@@ -767,9 +775,9 @@ def estimate_pose(particles, weights=None, *, radius=0.5, heading_bins=12) -> Po
 
     The mean of a multimodal particle set lies between its modes, often inside a wall, and
     the mean heading of two headings half a turn apart is one that neither has. Here the
-    particles are binned in :math:`(x, y, 	heta)`: squares of side ``radius`` and
+    particles are binned in :math:`(x, y, \theta)`: squares of side ``radius`` and
     ``heading_bins`` equal sectors of heading that wrap at :math:`\pm\pi` (as amcl's k-d
-    tree bins in :math:`(x, y, 	heta)`). The block of 3 × 3 × 3 bins that holds the most
+    tree bins in :math:`(x, y, \theta)`). The block of 3 × 3 × 3 bins that holds the most
     weight seeds the cluster (a block, so that a mode split by bin edges is not outweighed
     by a smaller one that fits in one bin; ties go to the first block in (x, y, θ) order);
     the cluster holds every particle within ``2·radius`` of the block's weighted mean in x
@@ -786,8 +794,8 @@ def estimate_pose(particles, weights=None, *, radius=0.5, heading_bins=12) -> Po
     radius : float
         Cluster scale in x and y (m), > 0.
     heading_bins : int
-        Number of heading sectors, at least 9 (so that a cluster spans less than half a
-        turn); the default 12 makes them 30° wide.
+        Number of heading sectors, 9 (so that a cluster spans less than half a turn) to
+        2**20; the default 12 makes them 30° wide.
 
     Returns
     -------
@@ -806,6 +814,8 @@ def estimate_pose(particles, weights=None, *, radius=0.5, heading_bins=12) -> Po
         raise ValueError(f"weights must have shape ({x.shape[0]},), got {w.shape}")
     radius = check.positive_scalar(radius, "radius")
     n_theta = check.count(heading_bins, "heading_bins", minimum=9)
+    if n_theta > 2**20:  # sectors below a microradian: the int64 bin labels would not hold
+        raise ValueError(f"heading_bins must be at most 2**20, got {n_theta}")
     with np.errstate(over="ignore", invalid="ignore"):
         scaled = np.floor(x[:, :2] / radius)
     if not np.all(np.abs(scaled) < _BIN_LIMIT):

@@ -348,9 +348,12 @@ def motion_extent(points, *, include=(), pad=0.15, min_size=0.5):
             )
         extra = extra[..., :2].reshape(-1, 2)
         lo, hi = np.minimum(lo, extra.min(axis=0)), np.maximum(hi, extra.max(axis=0))
-    centre = (lo + hi) / 2
-    half = max(float(np.max(hi - lo)) / 2 * (1 + 2 * pad), min_size / 2)
-    return (centre[0] - half, centre[0] + half, centre[1] - half, centre[1] + half)
+    with np.errstate(over="ignore", invalid="ignore"):
+        centre = lo / 2 + hi / 2
+        half = max(float(np.max(hi / 2 - lo / 2)) * (1 + 2 * float(pad)), float(min_size) / 2)
+        box = (centre[0] - half, centre[0] + half, centre[1] - half, centre[1] + half)
+    check.no_overflow(box, "the extent", points=pts, include=include, pad=pad)
+    return box
 
 
 def _model_calls(model, u_t, x_prev, alpha, dt, noise, prob, sample):

@@ -124,7 +124,8 @@ def grid_landmarks(nx, ny, spacing, origin=(0.0, 0.0), signatures=None):
     if np.any(sp <= 0):
         raise ValueError(f"spacing must be > 0, got {spacing!r}")
     ox, oy = check.vectors(origin, "origin", 2, "x, y")
-    xs, ys = ox + sp[0] * np.arange(nx), oy + sp[1] * np.arange(ny)
+    with np.errstate(over="ignore"):
+        xs, ys = ox + sp[0] * np.arange(nx), oy + sp[1] * np.arange(ny)
     check.no_overflow(xs, "the landmarks' x", nx=nx, spacing=sp, origin=(ox, oy))
     check.no_overflow(ys, "the landmarks' y", ny=ny, spacing=sp, origin=(ox, oy))
     given = None if signatures is None else _signatures(signatures, nx * ny)
@@ -295,19 +296,26 @@ def simulate_run(
     # Every step drawn at once from the robot's own frame (the sampler at the origin,
     # heading 0), then chained: the motion is rotation- and translation-equivariant and,
     # with γ = 0, turns the heading by ω̂Δt whatever the start pose.
+    with np.errstate(over="ignore"):
+        t = dt * np.arange(T + 1)
+    check.no_overflow(t, "the time dt * T", dt=dt, controls=controls)
     local = sample_motion_model_velocity(
         controls, np.zeros(3), dt, alpha6, sample=_sample_exact_normal, rng=rng
     )
-    poses = _chain(x0, local)
-    odo = _chain(x0, velocity_motion(np.zeros(3), controls, dt))
+    with np.errstate(over="ignore", invalid="ignore"):
+        poses = _chain(x0, local)
+        odo = _chain(x0, velocity_motion(np.zeros(3), controls, dt))
+    check.no_overflow(poses, "the true path", x0=x0, controls=controls, dt=dt)
+    check.no_overflow(odo, "the dead-reckoned path", x0=x0, controls=controls, dt=dt)
 
     truth = landmark_measurement(poses[1:, None, :], m[None, :, :])  # (T, L, 3)
     visible = (truth[..., 0] <= max_range) & (np.abs(truth[..., 1]) <= fov)
-    noise = rng.standard_normal(truth.shape) * sig
-    z = truth + noise
+    with np.errstate(over="ignore"):
+        noise = rng.standard_normal(truth.shape) * sig
+        z = truth + noise
+    check.no_overflow(z, "the noisy measurements", sigmas=sig, m=m, x0=x0)
     z[..., 1] = wrap_angle(z[..., 1])
     z[..., 0] = np.abs(z[..., 0])
-    t = dt * np.arange(T + 1)
     steps = []
     for k in range(T):
         idx = np.flatnonzero(visible[k])
