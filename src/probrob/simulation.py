@@ -214,11 +214,11 @@ def loop_controls(T, dt, v=0.5, radius=4.0, *, wiggle=0.0, period=None):
     if wiggle and T > 0:
         period = period if period is not None else dt * (T / 4)
         with np.errstate(over="ignore"):
-            cycles = t / period
-        if not np.all(cycles < 2.0**52):  # the phase would be lost: the exact remainder
-            cycles = np.fmod(t, period) / period
+            phase = 2 * np.pi * t / period
+        if not np.all(phase < 2.0**52):  # the phase would be lost: its exact remainder
+            phase = 2 * np.pi * (np.fmod(t, period) / period)
         with np.errstate(over="ignore"):
-            w = w + wiggle * np.sin(2 * np.pi * cycles)
+            w = w + wiggle * np.sin(phase)
         check.no_overflow(w, "the turn rate", v=v, radius=radius, wiggle=wiggle)
     return np.column_stack([np.full(T, float(v)), w])
 
