@@ -746,6 +746,13 @@ def features_strategy(batch):
     )
 
 
+def _nonnegative_range(f):
+    """A feature's range is a distance: |r| (the sign of a drawn coordinate dropped)."""
+    f = np.array(f, dtype=float)
+    f[..., 0] = np.abs(f[..., 0])
+    return f
+
+
 def correspondences_strategy(batch):
     k = n_features(batch)
     return st.lists(st.integers(0, N_LM - 1), min_size=k, max_size=k).map(
@@ -974,10 +981,10 @@ API += [
     Api(
         sensors.landmark_model_known_correspondence,
         "density",
-        f=Arg(
-            lambda batch: batched(batch, (3,), COORD),
+        f=Arg(  # issue 23, item 29 (class C): no sensor measures a negative range
+            lambda batch: batched(batch, (3,), COORD).map(_nonnegative_range),
             np.array([2.0, 0.3, 0.0]),
-            bad_vectors(3)[:5],
+            [*bad_vectors(3)[:5], (np.array([-1e-300, 0.3, 0.0]), ValueError)],
         ),
         c=Arg(
             lambda batch: st.integers(0, N_LM - 1),
@@ -993,8 +1000,16 @@ API += [
     Api(
         sensors.sample_landmark_model_known_correspondence,
         "sampler",
-        f=Arg(constant(np.array([2.0, 0.3, 0.0])), np.array([2.0, 0.3, 0.0]), BAD_LANDMARK),
-        c=Arg(constant(1), 1, [(N_LM, ValueError), (-1, ValueError), (0.5, ValueError)]),
+        f=Arg(
+            constant(np.array([2.0, 0.3, 0.0])),
+            np.array([2.0, 0.3, 0.0]),
+            [*BAD_LANDMARK, (np.array([-2.0, 0.3, 0.0]), ValueError)],  # a negative range
+        ),
+        c=Arg(
+            constant(1),
+            1,
+            [(N_LM, ValueError), (-1, ValueError), (0.5, ValueError), (1e300, ValueError)],
+        ),
         m=LM_MAP,
         sigmas=SIGMAS_SAMPLE,
         size=SIZE,
@@ -1570,6 +1585,22 @@ API += [
         "map",
         particles=PARTICLES,
         radius=Arg(lambda batch: floats([0.01, 0.5, 10.0], 0.01, 10.0), 0.5, BAD_POSITIVE),
+        heading_bins=Arg(
+            choices(9, 12, 36, 2**20),
+            12,
+            [(8, ValueError), (2**20 + 1, ValueError), *BAD_COUNT],
+        ),
+    ),
+    Api(  # issue 23, item 29 (class D): bins far from the origin, in int64 without wrapping
+        mcl.estimate_pose,
+        "map",
+        particles=Arg(
+            lambda batch: _particle_sets(batch).map(lambda x: x * [1e11, -1e11, 1.0]),
+            np.array([[2e11, 1e11, 0.3], [-3e11, 2.5e11, -1.0]]),
+            [(np.array([[1e300, 0.0, 0.0]]), ValueError)],  # 2**52 bins or more: refused
+        ),
+        radius=Arg(lambda batch: floats([1e-3, 0.5, 1e6], 1e-3, 1e6), 0.5, []),
+        extra=lambda est, kw: np.testing.assert_array_less(np.abs(np.asarray(est.pose[:2])), 1e12),
     ),
     Api(
         mcl.run_mcl,
@@ -1940,6 +1971,62 @@ EXTRA_INVALID += [
     ),
 ]
 
+# issue 23, item 29: inputs that no sensor or robot produces (class C) and integer overflow in
+# binning and indexing (class D), refused naming the argument instead of accepted or wrapped
+_STEP = simulation.Step(t=0.1, dt=0.1, u=np.array([1.0, 0.0]), z=np.zeros((0, 3)), c=np.zeros(0))
+_RUN = dict(mu0=np.zeros(3), Sigma0=0.1 * np.eye(3), m=LANDMARKS, alpha=[0.01] * 4,
+            sigmas=(0.1, 0.05, 0.1))  # fmt: skip
+EXTRA_INVALID += [
+    (  # C: a negative range
+        localization.ekf_localization_known_correspondences,
+        dict(_FILTER, z=np.array([[-1.0, 0.1, 0.0]]), c=np.array([0])),
+        ("z",),
+        ValueError,
+    ),
+    (  # C: a time stamp that is not a time
+        localization.run_filter,
+        dict(_RUN, steps=[_STEP, dataclasses.replace(_STEP, t=np.nan)]),
+        ("steps[1].t",),
+        ValueError,
+    ),
+    (  # C: a command that is text
+        localization.run_filter,
+        dict(_RUN, steps=[dataclasses.replace(_STEP, u=["1", "0"])]),
+        ("steps[0].u",),
+        ValueError,
+    ),
+    (  # D: an integral float index beyond int64
+        sensors.landmark_model_known_correspondence,
+        dict(f=[2.0, 0.3, 0.0], c=1e300, x=np.zeros(3), m=LANDMARKS, sigmas=(1, 1, 1)),
+        ("c",),
+        ValueError,
+    ),
+    (  # D: a cell 2**52 cells away (int64 wrapped silently)
+        maps.OccupancyGrid.world_to_cell,
+        dict(self=GRID_MAP, xy=[1e20, 0.5]),
+        ("xy",),
+        ValueError,
+    ),
+    (  # D: bins of radius 1e-13 around particles 1 km out
+        mcl.estimate_pose,
+        dict(particles=[[1e3, 0.0, 0.0]] * 2, radius=1e-13),
+        ("particles", "radius"),
+        ValueError,
+    ),
+    (  # D: more particles than an index can hold in memory
+        mcl.uniform_particles,
+        dict(grid=GRID_MAP, n=10**20, rng=0),
+        ("n",),
+        ValueError,
+    ),
+    (  # D: a dof beyond what 0.5 * dof holds as a float
+        evaluation.chi2_quantile,
+        dict(p=0.5, dof=10**400),
+        ("dof",),
+        ValueError,
+    ),
+]
+
 # --------------------------------------------------------------------------- the machinery
 
 
@@ -2260,3 +2347,124 @@ def test_the_twelve_uniform_sampler_terminates(size, time_limit):
     with time_limit(30):
         out = distributions.sample_normal_distribution(1.0, size=size, rng=0)
     assert np.shape(out) == (size,)
+
+
+# --------------------------------------------------------------------------- issue 23, item 29
+# The classes, swept over every row of the table instead of case by case:
+#  A. an array-valued scalar ([x], array([x])) for any scalar argument is refused with an error
+#     that names the argument (float() raised TypeError "only 0-dimensional arrays ...", or
+#     numpy's DeprecationWarning, naming nothing);
+#  B. extreme but valid magnitudes (5e-324, 1e-300, 1e300, 1.7e308 for every scalar, every
+#     array scaled to them, a BeamModelParams with σ_hit or λ_short at them) warn nothing:
+#     each gives a result without NaN or an error naming an argument (an overflow reported
+#     against it); C and D are rows above (EXTRA_INVALID, the estimate_pose rows).
+_EXTREMES = (5e-324, 1e-300, 1e300, 1.7e308)
+
+
+def _scalar_args(api):
+    """``{name: default}`` of the row's scalar numeric arguments that are not batched, and of
+    the function's own keyword arguments with a numeric default that the row leaves out."""
+    out = {
+        name: arg.default
+        for name, arg in api.args.items()
+        if arg not in _BATCH_ARGS and _is_number(arg.default)
+    }
+    for name, par in inspect.signature(api.func).parameters.items():
+        if name not in api.args and _is_number(par.default):
+            out[name] = par.default
+    return out
+
+
+def _is_number(value):
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(
+        value, bool | np.bool_
+    )
+
+
+def _names_an_argument(message, kwargs):
+    names = "|".join(re.escape(k) for k in kwargs)
+    return re.search(rf"(?<![\w.])({names})(?!\w)", message) is not None
+
+
+def _call_extreme(func, kwargs):
+    """The result, or None after a ValueError/TypeError that names an argument; any other
+    exception, a warning, or an error naming nothing fails the test."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            return func(**kwargs)
+        except (ValueError, TypeError) as exc:
+            assert _names_an_argument(str(exc), kwargs), f"{type(exc).__name__}: {exc}"
+            return None
+
+
+def _array_scalar_rows():
+    rows = []
+    for api in API:
+        base = {name: arg.default for name, arg in api.args.items()}
+        for name, default in _scalar_args(api).items():
+            for label, value in (("[x]", [default]), ("array([x])", np.array([default]))):
+                rows.append(pytest.param(api, base, name, value, id=f"{api!r}-{name}-{label}"))
+    return rows
+
+
+@pytest.mark.parametrize(("api", "base", "name", "value"), _array_scalar_rows())
+def test_an_array_valued_scalar_is_named_when_refused(api, base, name, value):
+    try:
+        _call_extreme(api.func, {**base, name: value})
+    finally:
+        plt.close("all")
+
+
+def _extreme_rows():
+    rows = []
+    for api in API:
+        if api.kind in ("plot", "widget"):
+            continue
+        base = {name: arg.default for name, arg in api.args.items()}
+        variants = []
+        for name, default in _scalar_args(api).items():
+            sign = -1.0 if default < 0 else 1.0
+            variants += [(name, f"{x:g}", sign * x) for x in _EXTREMES]
+        for name, arg in api.args.items():
+            d = arg.default
+            if isinstance(d, sensors.BeamModelParams):
+                for field_name in ("sigma_hit", "lambda_short"):
+                    for x in (5e-324, 1e-300, 1e300):
+                        value = dataclasses.replace(d, **{field_name: x})
+                        variants.append((name, f"{field_name}={x:g}", value))
+                continue
+            if _is_number(d) or isinstance(d, str | bool) or d is None:
+                continue
+            try:
+                arr = np.asarray(d, dtype=float)
+            except (TypeError, ValueError):
+                continue
+            if arr.ndim == 0 or not arr.size or not np.all(np.isfinite(arr)) or not arr.any():
+                continue
+            top = np.max(np.abs(arr))
+            for x in _EXTREMES:
+                with np.errstate(all="ignore"):
+                    scaled = arr / top * x
+                if np.all(np.isfinite(scaled)):
+                    variants.append((name, f"max {x:g}", scaled))
+        for name, label, value in variants:
+            rows.append(pytest.param(api, base, name, value, id=f"{api!r}-{name}-{label}"))
+    return rows
+
+
+@pytest.mark.parametrize(("api", "base", "name", "value"), _extreme_rows())
+def test_extreme_valid_magnitudes_warn_nothing_and_never_give_nan(api, base, name, value):
+    result = _call_extreme(api.func, {**base, name: value})
+    if result is None or api.nan_fields:
+        return
+    for arr in _arrays(result):
+        assert not np.isnan(arr.astype(float)).any(), (name, value)
+
+
+def test_the_sweep_has_rows_for_every_class():
+    """Issue 23, item 29: the classes are rows of the suite, not single cases."""
+    assert len(_array_scalar_rows()) >= 300
+    assert len(_extreme_rows()) >= 500
+    extra = {f.__name__ for f, *_ in EXTRA_INVALID}
+    assert {"run_filter", "world_to_cell", "estimate_pose", "uniform_particles"} <= extra

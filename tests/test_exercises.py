@@ -330,3 +330,141 @@ def test_every_check_function_has_wrong_answer_tests(path):
             assert name in test_file.read_text(encoding="utf-8"), (
                 f"{test_file.name} never tests {name}"
             )
+
+
+# --------------------------------------------------------------------------- issue 23, item 4
+# A string, a bool or NaN is never a right answer, in any chapter: numpy reads "625" as 625.0
+# and False as 0.0, and NaN fails every comparison (so a check written "if abs(got - want) >
+# tol: return <message>" passed it). Each chapter's right answers (the tests' RIGHT registries,
+# or an answer of the right form below where a test file has none) are turned into strings,
+# given a bool or a NaN, and every such variant must be "not yet — expected a ...".
+
+PLACEHOLDER_ANSWERS = {  # answers of the right form, for the checks whose tests hold no RIGHT
+    "mrclam": {
+        "exercise_1": 0.88,
+        "exercise_2": (1.5e-3, 2.5e-3),
+        "exercise_3": (-1.25, "lower"),
+        "exercise_4": (0.011, 0.052, 0.27),
+    },
+    "trabalho4": {
+        "exercise_1": (512, 500.0),
+        "exercise_2": (0.0, -1234.5),
+        "exercise_3": 0.71,
+        "exercise_4": 12.3,
+        "exercise_5": (-3.2, -5.1),
+        "exercise_6": 0.52,
+    },
+}
+OWN_CHECKS = ("cir", "mcl", "mrclam", "trabalho3", "turkish")  # exercise_N called directly too
+
+
+def _registry(short, name):
+    test_file = TESTS / f"test_exercises_{short}.py"
+    spec = importlib.util.spec_from_file_location(f"_right_answers_{short}", test_file)
+    tests = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tests)
+    return getattr(tests, name, None) or {}
+
+
+def _is_number(x):
+    return isinstance(x, int | float | np.integer | np.floating) and not isinstance(
+        x, bool | np.bool_
+    )
+
+
+def _replace(value, new, first_only):
+    """``value`` (nested tuples, lists, arrays of numbers) with ``new(x)`` for its numbers
+    (or its first number only); arrays become lists. Returns (value, replaced anything)."""
+    done = False
+
+    def walk(v):
+        nonlocal done
+        if isinstance(v, np.ndarray):
+            v = v.tolist()
+        if isinstance(v, tuple | list):
+            return type(v)(walk(item) for item in v)
+        if _is_number(v) and not (first_only and done):
+            done = True
+            return new(v)
+        return v
+
+    return walk(value), done
+
+
+def _non_numbers(right):
+    """The string, bool and NaN variants of a right answer."""
+    out = {}
+    for label, new, first in [
+        ("all strings", lambda x: repr(float(x)) if isinstance(x, float) else str(x), False),
+        ("one string", lambda x: str(x), True),
+        ("one True", lambda x: True, True),
+        ("one False", lambda x: False, True),
+        ("one NaN", lambda x: float("nan"), True),
+        ("all NaN", lambda x: np.nan, False),
+    ]:
+        variant, replaced = _replace(right, new, first)
+        if replaced:
+            out[label] = variant
+    if _is_number(right):
+        out["numpy string"] = np.str_(repr(float(right)))
+        out["numpy bool"] = np.bool_(bool(right))
+    else:
+        try:
+            flat = np.asarray(right, dtype=float)
+        except (TypeError, ValueError):  # ragged or holding words: the other variants do
+            flat = None
+        if flat is not None:
+            out["array of strings"] = flat.astype(str)
+    return out
+
+
+def _non_number_cases():
+    cases = []
+    for short in sorted(set(CHAPTER_MODULES.values())):
+        module = importlib.import_module(f"probrob.exercises.{short}")
+        rights = {**PLACEHOLDER_ANSWERS.get(short, {}), **_registry(short, "RIGHT")}
+        names = sorted(n for n in vars(module) if re.fullmatch(r"exercise_\d+", n))
+        for name in names:
+            assert name in rights, f"no right answer for {short}.{name}: add one above"
+            for label, answer in _non_numbers(rights[name]).items():
+                cases.append(pytest.param(short, name, answer, id=f"{short}.{name}-{label}"))
+    return cases
+
+
+@pytest.mark.parametrize(("short", "name", "answer"), _non_number_cases())
+def test_a_string_a_bool_or_nan_is_never_correct(short, name, answer):
+    module = importlib.import_module(f"probrob.exercises.{short}")
+    test = getattr(module, name)
+    line = verdict("E", answer, test=test)
+    assert line.startswith("E: not yet — expected a"), (answer, line)
+    if short in OWN_CHECKS:  # the chapter's own number reading refuses it too
+        kwargs = {
+            p.name: None
+            for p in inspect.signature(test).parameters.values()
+            if p.kind is p.KEYWORD_ONLY
+        }
+        message = test(answer, **kwargs)
+        assert isinstance(message, str) and "expected a" in message, (answer, message)
+
+
+def test_the_issue_examples_say_what_the_answer_is():
+    from probrob.exercises import mcl
+
+    assert (
+        verdict("E", float("nan"), test=mcl.exercise_4)
+        == "E: not yet — expected a number, got NaN"
+    )
+    assert verdict("E", (float("nan"), 0.0), test=mcl.exercise_5).startswith(
+        "E: not yet — expected a number, got NaN"
+    )
+    assert "got a string" in verdict("E", "625", test=mcl.exercise_1)
+    assert "got a string" in verdict(
+        "E", (("0", "4", "1", "3"), (1, 5, 2, 4)), test=mcl.exercise_2
+    )
+    assert "got a bool" in verdict("E", (0.2, False), test=mcl.exercise_5)
+    # words still reach a check that asks for one
+    from probrob.exercises import mrclam
+
+    assert "expected a" not in verdict("E", [1.0, "sideways"], test=lambda a: "checked")
+    assert verdict("E", (1.0, "higher"), test=lambda a: None) == "E: correct"
+    assert mrclam.exercise_3((1.0, 2.0), train=None, test=None).startswith("the second part")

@@ -84,6 +84,11 @@ WRONG_ANSWERS = {
         (-cir.EX1_S_SX, (0.0, L / 2)),  # right s_dx, CIR put at the left wheel
         (-cir.EX1_S_SX, (0.0, np.inf)),  # "at infinity"
         -cir.EX1_S_SX,  # only the first part
+        (cir.EX1_S_SX - 2 * np.pi * L, (0.0, 0.0)),  # a whole loop (α = 2π), back in place
+        (
+            cir.EX1_S_SX - 2 * np.pi * L,
+            (0.0, -cir_radius_angle([0.2, 0.2 - 0.8 * np.pi], L)[0] - L / 2),
+        ),
     ],
     "exercise_2": [
         np.zeros(3),
@@ -158,3 +163,24 @@ def test_no_message_prints_the_right_answer_in_any_spelling(name):
     for answer in [*WRONG_ANSWERS[name], "one"]:
         message = verdict(name, answer, test=getattr(cir, name))
         assert not _leaks(RIGHT[name], message), (name, message)
+
+
+def test_a_whole_loop_is_not_a_spin_issue_23_item_19():
+    """s_dx = 0.2 - 0.8π turns the robot by α = 2π about a CIR off the axle: it ends where it
+    started but drove a circle; with the CIR the check itself computes, it printed correct."""
+    s_dx = cir.EX1_S_SX - 2 * np.pi * L
+    r, alpha = cir_radius_angle([cir.EX1_S_SX, s_dx], L)
+    assert alpha == pytest.approx(2 * np.pi) and abs(r + L / 2) > 0.1
+    for cx_cy in [(0.0, 0.0), (0.0, -(r + L / 2))]:
+        message = verdict("e", (s_dx, cx_cy), test=cir.exercise_1)
+        assert message.startswith("e: not yet") and "loop" in message, message
+    assert verdict("e", RIGHT["exercise_1"], test=cir.exercise_1) == "e: correct"
+
+
+def test_a_right_value_short_of_digits_is_told_so():
+    for name, answer in [
+        ("exercise_2", np.round(RIGHT["exercise_2"], 3)),
+        ("exercise_4", np.round(RIGHT["exercise_4"], 4)),
+    ]:
+        message = verdict(name, answer, test=getattr(cir, name))
+        assert "give more digits" in message, message

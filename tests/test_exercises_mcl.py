@@ -127,3 +127,19 @@ def test_the_right_answers_agree_with_the_chapters_solutions():
     exact = math.ceil(chi2.ppf(0.99, 39) / (2 * 0.05))
     assert exact == RIGHT["exercise_1"]
     assert verdict("exercise_1", exact, test=mcl.exercise_1).endswith("correct")
+
+
+@pytest.mark.parametrize(
+    ("name", "answer"),
+    [
+        ("exercise_4", 2.29),  # 64/28 = 2.2857...: was "N_eff = 1 / Σ w̃ᵢ² ..."
+        ("exercise_5", (0.1, 0.0)),  # wrong, not a rounding: the concept message
+        ("exercise_5", (float(f"{math.sqrt(0.1) * abs(R1):.2g}"), 0.0)),
+    ],
+)
+def test_the_rule_of_digits_issue_23_item_11(name, answer):
+    line = verdict(name, answer, test=getattr(mcl, name))
+    assert line.startswith(f"{name}: not yet")
+    short = isinstance(answer, float) or len(f"{answer[0]:g}".strip("0.")) >= 2
+    assert ("give more digits" in line) == short, line
+    assert_answer_not_printed(line, RIGHT[name])

@@ -325,3 +325,38 @@ def test_exercise_1_prose_states_the_scenario_the_check_uses():
     assert f"$\\Delta t = {s['dt']:g}$ s" in text
     assert f"$x_a = {pose(s['x_a'])}$" in text and f"$x_b = {pose(s['x_b'])}$" in text
     assert f"heading\n   {s['x_b'][2]:g} rad further left" in text
+
+
+# ------------------------------------------------------ issue 23, items 11 and 19
+
+
+def test_exercise_2_two_parts_off_are_off():
+    var_55, var_56 = _variances()
+    line = verdict("Exercise 2", (3 * var_55, 2 * var_56), test=_test_2())
+    assert line.endswith("are off"), line  # was "... and the second ... is off"
+    assert verdict("Exercise 2", (var_55, 2 * var_56), test=_test_2()).endswith(" is off")
+
+
+def test_exercise_3_accepts_a_list(split):
+    # [score, "lower"] was "expected a pair"
+    assert correct("Exercise 3", [split["swapped"], split["word"]], split["test"])
+    assert not_yet("Exercise 3", [split["swapped"]], split["test"])
+
+
+def test_exercise_4_names_the_parts_off_in_a_sentence():
+    s = np.array(_sigmas())
+    assert verdict("Exercise 4", s * [1, 2, 1], test=_test_4()).endswith("σ_ω is off")
+    assert verdict("Exercise 4", s * [2, 2, 1], test=_test_4()).endswith("σ_v and σ_ω are off")
+
+
+def test_a_right_value_short_of_digits_is_told_so(split):
+    ratio, (var_55, var_56), sig = _ratio(), _variances(), _sigmas()
+    cases = [
+        ("Exercise 1", float(f"{ratio:.3g}"), partial(ch.exercise_1, alpha=ALPHA_V)),
+        ("Exercise 2", (float(f"{var_55:.3g}"), var_56), _test_2()),
+        ("Exercise 3", (float(f"{split['swapped']:.4g}"), split["word"]), split["test"]),
+        ("Exercise 4", tuple(float(f"{x:.3g}") for x in sig), _test_4()),
+    ]
+    for name, answer, test in cases:
+        line = verdict(name, answer, test=test)
+        assert "give more digits" in line, (name, answer, line)

@@ -27,6 +27,8 @@ import pytest
 
 from probrob import mcl as M
 from probrob._live import (
+    PF_HEADING_BINS,
+    PF_RADIUS,
     particle_filter_beams,
     particle_filter_decoded,
     particle_filter_draws,
@@ -435,7 +437,7 @@ def _check_run(page, name, values, steps=None):
             assert np.array_equal(np.isfinite(st["logW"]), np.isfinite(lw)), what
             ok = np.isfinite(lw)
             _close(st["logW"][ok], lw[ok], f"{what}: log-weights")
-        est = M.estimate_pose(x, radius=0.5)
+        est = M.estimate_pose(x, radius=PF_RADIUS, heading_bins=PF_HEADING_BINS)
         _close(np.array(st["estimate"]), est.pose, f"{what}: estimate")
         assert st["fraction"] == pytest.approx(est.fraction, rel=TOL), what
         pos = np.hypot(*(est.pose[:2] - truth[t, :2]))
@@ -597,3 +599,43 @@ def test_bench_hook_times_filter_steps(page):
     after = page.js(f"{w}.state()")
     for key in ("values", "particles", "estimate"):
         assert after[key] == before[key], key
+
+
+def _estimate_cases():
+    rng = np.random.default_rng(23)
+    opposite = np.r_[np.zeros((50, 3)), np.tile([0.05, 0.0, np.pi], (50, 1))]
+    across = np.c_[rng.normal(3.0, 0.1, (200, 2)), np.pi + rng.normal(0.0, 0.2, 200)]
+    two_headings = np.c_[rng.normal(1.0, 0.05, (300, 2)), rng.choice([0.3, 2.5], 300)]
+    spread = np.c_[rng.uniform(-5, 5, (400, 2)), rng.uniform(-10, 10, 400)]  # any θ, unwrapped
+    return {
+        "50 at θ = 0 and 50 at θ = π, 5 cm apart (issue 23, item 2)": opposite,
+        "a cloud across ±π": across,
+        "one place, two headings": two_headings,
+        "uniform in x, y and θ": spread,
+    }
+
+
+@pytest.mark.parametrize("name", list(_estimate_cases()))
+def test_estimate_pose_in_javascript_is_probrobs(browser, tmp_path, name):
+    """mcl.js's estimatePose equals probrob.mcl.estimate_pose on hand-made sets: the heading
+    sectors, their wrap at ±π and the tie order (issue 23, item 2)."""
+    from probrob._live import _asset
+
+    cdp, b = browser
+    x = _estimate_cases()[name]
+    page = tmp_path / "estimate.html"
+    script = "\n".join(
+        [_asset("live.js"), _asset("mcl.js"), "window.estimatePose = estimatePose;"]
+    )
+    page.write_text(f"<!doctype html><meta charset='utf-8'><script>{script}</script>", "utf-8")
+    tab = cdp.Tab.open(b, page.as_uri())
+    try:
+        js = tab.js(
+            f"estimatePose({json.dumps(x.ravel().tolist())}, {len(x)}, {PF_RADIUS}, "
+            f"{PF_HEADING_BINS})"
+        )
+    finally:
+        tab.close()
+    est = M.estimate_pose(x, radius=PF_RADIUS, heading_bins=PF_HEADING_BINS)
+    _close(np.array(js["pose"]), est.pose, name)
+    assert js["fraction"] == pytest.approx(est.fraction, rel=TOL), name

@@ -351,8 +351,8 @@ def live_widget(
         "n": int(n_particles),
         "grid": int(grid),
         "headings": int(headings),
-        "width": int(width),
-        "height": int(height),
+        "width": check.count(width, "width", 1),
+        "height": check.count(height, "height", 1),
         "sliders": [
             {"name": s.name, "value": float(s.value), "min": float(s.lo), "max": float(s.hi)}
             for s in sliders
@@ -770,6 +770,8 @@ def _constant(value, key) -> float:
 # ------------------------------------------------------------------ the live particle filter
 #: Particles within which the live particle filter's ``estimate_pose`` clusters (m).
 PF_RADIUS = 0.5
+#: Heading sectors of the live particle filter's ``estimate_pose`` (its default, 30° each).
+PF_HEADING_BINS = 12
 #: The embedded ranges are whole millimetres (uint16); this code marks a max-range reading.
 PF_MAX_RANGE_CODE = 0xFFFF
 
@@ -928,7 +930,8 @@ def particle_filter_live(
     of particles, chooses a known or a global start, and steps or plays the filter: one step
     is :func:`probrob.mcl.mcl` with the likelihood field (Table 6.3) and the low-variance
     sampler (Table 4.4). The canvas shows the map, the particles, the corrected pose
-    (``truth``) and :func:`probrob.mcl.estimate_pose` with radius ``PF_RADIUS``; the text
+    (``truth``) and :func:`probrob.mcl.estimate_pose` with radius ``PF_RADIUS`` and
+    ``PF_HEADING_BINS`` heading sectors; the text
     under it the estimate's error. Moving a slider re-runs the filter from the start to the
     step shown, on the same random numbers (:func:`particle_filter_draws`).
 
@@ -1071,8 +1074,8 @@ def particle_filter_live(
     h, w = grid.shape
     config = {
         "kernel": "mcl",
-        "width": int(width),
-        "height": int(height),
+        "width": check.count(width, "width", 1),
+        "height": check.count(height, "height", 1),
         "steps": steps,
         "beamsTotal": int(angles.size),
         "nMax": n_max,
@@ -1082,6 +1085,7 @@ def particle_filter_live(
             "zSum": h_sum,
             "maxRange": params.max_range,
             "radius": PF_RADIUS,
+            "headingBins": PF_HEADING_BINS,
             "spread": spread.tolist(),
         },
         "map": {
@@ -1115,7 +1119,8 @@ def particle_filter_live(
         "field (Table 6.3) of the chosen beams, and the set is redrawn by the low-variance "
         "sampler (Table 4.4). Black: occupied cells; white: free; grey: unexplored. Green: "
         "the reference (corrected) path and pose; blue arrow: the estimate (the heaviest "
-        f"cluster, {PF_RADIUS} m cells). Moving a slider re-runs the filter from the start "
+        f"cluster, {PF_RADIUS} m cells and {360 // PF_HEADING_BINS}° of heading). Moving a "
+        "slider re-runs the filter from the start "
         "on the same random numbers. Step, play or drag the step slider."
     )
     return LiveWidget(

@@ -168,6 +168,14 @@ def positive_scalar(value, name: str) -> float:
     return float(arr)
 
 
+def real_scalar(value, name: str) -> float:
+    """Return one finite float (a number or a 0-d array; ``[x]`` is not a scalar)."""
+    arr = finite(value, name)
+    if arr.ndim != 0:
+        raise ValueError(f"{name} must be a number, got shape {arr.shape}: {_short(value)}")
+    return float(arr)
+
+
 def in_range(value, name: str, lo: float, hi: float) -> float:
     """Return a finite float scalar in the closed interval ``[lo, hi]`` (never clamped)."""
     arr = finite(value, name)
@@ -426,6 +434,7 @@ __all__ = [
     "overflow_error",
     "poses",
     "positive_scalar",
+    "real_scalar",
     "rng",
     "sample_output",
     "scalar_or_array",

@@ -152,15 +152,20 @@ def circular_mean(theta, weights=None, axis=None):
     Returns
     -------
     mean : float or ndarray
-        ``theta`` reduced over ``axis``. When the resultant vector is exactly zero
-        (e.g. two opposite angles) the mean is undefined and 0 is returned, which
-        is ``atan2(0, 0)``.
+        ``theta`` reduced over ``axis``, the direction of the resultant
+        :math:`\sum_i w_i (\cos\theta_i, \sin\theta_i)`. Two float angles are never exactly
+        opposite (π is irrational): ``np.pi`` lies 1.2e-16 below a half turn, so the mean of
+        0 and ``np.pi`` is their bisector, π/2, and the mean of ±``np.pi / 2`` is 0. The
+        weights are scaled by their largest first, so that neither 1e308 nor 5e-324 changes
+        the mean.
 
     Raises
     ------
     ValueError
         If there is nothing to average (``theta`` empty along ``axis``), the weights are
-        negative, not finite or sum to zero, or ``axis`` is not an axis of ``theta``.
+        negative, not finite or sum to zero, ``axis`` is not an axis of ``theta``, or the
+        resultant vector is exactly zero in floating point (no direction: the mean is
+        undefined).
     """
     theta = check.finite(theta, "theta")
     if axis is not None:
@@ -182,8 +187,15 @@ def circular_mean(theta, weights=None, axis=None):
             ) from None
         if np.any(weights < 0):
             raise ValueError("weights must be finite and non-negative")
-        if np.any(np.sum(weights, axis=axis) == 0):
+        top = np.max(weights, axis=axis, keepdims=True)
+        if np.any(top == 0):
             raise ValueError("weights sum to zero: the mean of nothing is undefined")
+        weights = weights / top  # in [0, 1], the largest 1: no overflow, no underflow to 0
     s = np.sum(weights * np.sin(theta), axis=axis)
     c = np.sum(weights * np.cos(theta), axis=axis)
+    if np.any((s == 0) & (c == 0)):
+        raise ValueError(
+            "the weighted unit vectors of theta sum to exactly zero: their mean direction is "
+            "undefined"
+        )
     return check.scalar_or_array(_wrap(np.arctan2(s, c)))

@@ -848,6 +848,9 @@ def _numbers(fields: list[str], what: str, lineno: int) -> list[float]:
     return values
 
 
+_CARMEN_NUMERIC_PARAMS = ("robot_frontlaser_offset",)
+
+
 def _parse_carmen(lines) -> dict:
     """Parse a CARMEN log's FLASER, ODOM, NEFF and PARAM lines (other messages are skipped).
 
@@ -871,6 +874,12 @@ def _parse_carmen(lines) -> dict:
                     f"{' '.join(f[:2])!r}"
                 )
             n = int(f[1])
+            if n < 2:
+                raise _CarmenError(
+                    f"line {lineno}: FLASER has 1 beam; CARMEN spreads a FLASER scan's beams "
+                    "over 180° from -90°, which takes at least 2 (read a one-beam sensor "
+                    "otherwise)"
+                )
             if len(f) != n + 11:
                 raise _CarmenError(
                     f"line {lineno}: FLASER with {n} beams needs {n + 11} fields (FLASER n, "
@@ -912,6 +921,8 @@ def _parse_carmen(lines) -> dict:
         elif tag == "PARAM":
             if len(f) < 3:
                 raise _CarmenError(f"line {lineno}: PARAM needs a name and a value")
+            if f[1] in _CARMEN_NUMERIC_PARAMS:  # the ones read: a finite number of metres
+                _numbers(f[2:3], f"PARAM {f[1]}", lineno)
             params[f[1]] = f[2]
     if not poses:
         raise _CarmenError(
@@ -1040,6 +1051,7 @@ _INTEL_MAX_RANGE = 81.83
 
 
 def _carmen_fields(parsed: dict, max_range: float) -> dict:
+    # checked finite by _parse_carmen
     laser_offset = float(parsed["params"].get("robot_frontlaser_offset", 0.0))
     out = {k: np.ascontiguousarray(parsed[k]) for k in ("t", "poses", "ranges", "odometry")}
     out["beam_angles"] = parsed["beam_angles"]
@@ -1100,13 +1112,17 @@ def read_carmen_log(path, *, max_range=None) -> CarmenLog:
         ) from exc
     if not file.is_file():
         raise FileNotFoundError(f"path: no such file {str(file)!r}")
+    import zlib  # here, not at the top: this reader's errors only
+
+    max_range = _carmen_max_range(max_range)
     opener = gzip.open if file.suffix == ".gz" else open
     try:
         with opener(file, "rt", encoding="ascii", errors="strict") as fh:
             lines = fh.read().splitlines()
-    except (UnicodeDecodeError, OSError) as exc:
+    except (UnicodeDecodeError, OSError, EOFError, zlib.error) as exc:
+        # EOFError: a gzip file cut short; zlib.error: its compressed data corrupt
         raise ValueError(
-            f"path: {str(file)!r} is not a readable text CARMEN log ({exc})"
+            f"path: {str(file)!r} is not a readable text CARMEN log ({type(exc).__name__}: {exc})"
         ) from None
     try:
         parsed = _parse_carmen(lines)
@@ -1120,11 +1136,29 @@ def read_carmen_log(path, *, max_range=None) -> CarmenLog:
                 f"max_range: pass the scanner's no-return code; the log's largest reading, "
                 f"{max_range!r} m, occurs once, so it is a reading, not a code"
             )
-    else:
-        max_range = float(max_range)
-        if not (np.isfinite(max_range) and max_range > 0):
-            raise ValueError(f"max_range must be a positive number of metres, got {max_range!r}")
     return CarmenLog(**_carmen_fields(parsed, max_range), folder=str(file.parent))
+
+
+def _carmen_max_range(value) -> float | None:
+    """``read_carmen_log``'s ``max_range``: None, or one finite positive real number (a
+    0-d array too; not a bool, a string, a list or an array of several)."""
+    if value is None:
+        return None
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):
+        arr = np.asarray(None)
+    if arr.dtype.kind == "c":
+        raise TypeError(f"max_range must be real, got complex {value!r}")
+    if arr.dtype.kind not in "iuf" or arr.ndim != 0:
+        raise ValueError(
+            f"max_range must be one positive number of metres, got {type(value).__name__} "
+            f"{value!r}"
+        )
+    number = float(arr)
+    if not (np.isfinite(number) and number > 0):
+        raise ValueError(f"max_range must be a positive number of metres, got {number!r}")
+    return number
 
 
 def load_intel_lab(path=None) -> IntelLab:

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.special import gammainccinv, gammaincinv
 
 from . import _validation as check
-from .angles import _wrap
+from .angles import _diff
 
 __all__ = ["chi2_quantile", "covariance_ellipse", "nees"]
 
@@ -43,7 +43,7 @@ def chi2_quantile(p: float, dof: int) -> float:
     p : float
         Probability in (0, 1).
     dof : int
-        Degrees of freedom, >= 1.
+        Degrees of freedom, 1 to 2**53 (a float holds it exactly).
 
     Returns
     -------
@@ -54,16 +54,24 @@ def chi2_quantile(p: float, dof: int) -> float:
     if p.ndim != 0 or not 0.0 < p < 1.0:
         raise ValueError(f"p must lie in (0, 1), got {check._short(p)}")
     p = float(p)
-    half = 0.5 * check.count(dof, "dof", 1)
+    dof = check.count(dof, "dof", 1)
+    if dof > 2**53:  # 0.5 * dof must be a float, and one that is the dof exactly
+        raise ValueError(f"dof must be at most 2**53, got {check._short(dof)}")
+    half = 0.5 * dof
     if p > 0.5:
         return 2.0 * float(gammainccinv(half, 1.0 - p))
     return 2.0 * float(gammaincinv(half, p))
 
 
 def _pose_error(x_true, mu):
-    """``x_true - mu`` with the heading component wrapped to [-π, π)."""
-    e = np.subtract(x_true, mu)
-    e[..., 2] = _wrap(e[..., 2])
+    """``x_true - mu`` with the heading component wrapped to [-π, π) (the heading difference
+    exact also where it overflows); an overflowing position difference is reported against
+    ``x_true`` and ``mu``."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        e = np.subtract(x_true, mu)
+    e[..., 2] = _diff(x_true[..., 2], mu[..., 2])
+    per_pose = np.where(np.all(np.isfinite(e), axis=-1), 0.0, np.inf)  # batch index, not axis
+    check.no_overflow(per_pose, "the error x_true - mu", x_true=x_true, mu=mu)
     return e
 
 
@@ -88,18 +96,26 @@ def nees(x_true, mu, Sigma):
     Raises
     ------
     ValueError
-        If ``Sigma`` is not symmetric or not positive definite.
+        If ``Sigma`` is not symmetric or not positive definite, the batch shapes of the
+        arguments do not broadcast (naming each), or the error or the NEES overflows float64
+        (naming the most extreme argument).
     """
     x_true = check.poses(x_true, "x_true")
     mu = check.poses(mu, "mu")
     Sigma = check.covariance(Sigma, "Sigma", stack=True)
+    batch = check.batch_shape(x_true=x_true.shape[:-1], mu=mu.shape[:-1], Sigma=Sigma.shape[:-2])
     e = _pose_error(x_true, mu)
     try:
         L = np.linalg.cholesky(Sigma)
     except np.linalg.LinAlgError:
         raise ValueError("Sigma is not positive definite: the NEES needs its inverse") from None
-    w = np.linalg.solve(L, e[..., None])[..., 0]
-    return check.scalar_or_array(np.sum(w * w, axis=-1))
+    L = np.broadcast_to(L, (*batch, 3, 3))
+    e = np.broadcast_to(e, (*batch, 3))
+    with np.errstate(over="ignore", invalid="ignore"):
+        w = np.linalg.solve(L, e[..., None])[..., 0]
+        value = np.sum(w * w, axis=-1)
+    check.no_overflow(value, "the NEES", x_true=x_true, mu=mu, Sigma=Sigma)
+    return check.scalar_or_array(value)
 
 
 def covariance_ellipse(mu, Sigma, p=0.95, n=60):

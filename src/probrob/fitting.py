@@ -45,7 +45,7 @@ from . import _validation as check
 from .angles import angle_diff
 from .evaluation import nees
 from .kinematics import _interpolate_track, arc_update, dead_reckon
-from .localization import _predict_segment
+from .localization import _NonFinite, _predict_segment
 from .motion import motion_model_odometry, motion_model_velocity
 from .sensors import _landmark_measurement_core
 
@@ -197,17 +197,28 @@ def frame_errors(reference, poses):
     -------
     errors : ndarray, shape broadcast(...) + (3,)
         :math:`(e_a, e_c, e_\theta)` in m, m and rad (wrapped to :math:`[-\pi, \pi)`).
+
+    Raises
+    ------
+    ValueError
+        If the batch shapes do not broadcast (naming both), or an error overflows float64
+        (naming the most extreme argument).
     """
     reference = check.poses(reference, "reference")
     poses = check.poses(poses, "poses")
+    check.batch_shape(reference=reference.shape[:-1], poses=poses.shape[:-1])
     xr, yr, thr = np.moveaxis(reference, -1, 0)
     x, y, th = np.moveaxis(poses, -1, 0)
-    dx, dy = x - xr, y - yr
     c, s = np.cos(thr), np.sin(thr)
-    return np.stack(
-        np.broadcast_arrays(c * dx + s * dy, c * dy - s * dx, np.asarray(angle_diff(th, thr))),
-        axis=-1,
-    )
+    with np.errstate(over="ignore", invalid="ignore"):
+        dx, dy = x - xr, y - yr
+        errors = np.stack(
+            np.broadcast_arrays(c * dx + s * dy, c * dy - s * dx, np.asarray(angle_diff(th, thr))),
+            axis=-1,
+        )
+    per_pose = np.where(np.all(np.isfinite(errors), axis=-1), 0.0, np.inf)
+    check.no_overflow(per_pose, "the frame error", reference=reference, poses=poses)
+    return errors
 
 
 @dataclass(frozen=True)
@@ -259,6 +270,9 @@ class MotionWindows:
         )
 
 
+_MAX_WINDOWS = 1e8  # windows of one recording: 16 GB of arrays
+
+
 def motion_windows(command_t, commands, truth_t, truth, dt, *, stride=None):
     r"""Cut a recording into windows of length ``dt`` with their controls and true poses.
 
@@ -299,17 +313,29 @@ def motion_windows(command_t, commands, truth_t, truth, dt, *, stride=None):
     stride = dt if stride is None else check.positive_scalar(stride, "stride")
     start = max(command_t[0], truth_t[0])
     stop = min(command_t[-1], truth_t[-1])
-    count = int(np.floor((stop - start - dt) / stride)) + 1
-    if stop - start < dt or count < 1:
+    with np.errstate(over="ignore"):  # a stride near the smallest float: too many, below
+        windows = np.floor((stop - start - dt) / stride) + 1
+    if stop - start < dt or windows < 1:
         raise ValueError(
             f"dt = {dt!r} s is longer than the time covered by both recordings "
             f"({max(stop - start, 0.0):.3f} s)"
         )
+    if not windows <= _MAX_WINDOWS:
+        raise ValueError(
+            f"{'stride' if stride != dt else 'dt'} = {stride!r} s cuts the "
+            f"{stop - start:.6g} s of the recordings into {windows:.3g} windows, more than "
+            f"{_MAX_WINDOWS:.0e}: use a longer {'stride' if stride != dt else 'dt or a stride'}"
+        )
+    count = int(windows)
     t0 = start + stride * np.arange(count)
     t1 = np.minimum(t0 + dt, stop)  # guards the last window against rounding past stop
     # The integral of the held commands at any time: exact at the stamps, linear between.
-    integral = np.concatenate(
-        [np.zeros((1, 2)), np.cumsum(commands[:-1] * np.diff(command_t)[:, None], axis=0)]
+    with np.errstate(over="ignore", invalid="ignore"):
+        integral = np.concatenate(
+            [np.zeros((1, 2)), np.cumsum(commands[:-1] * np.diff(command_t)[:, None], axis=0)]
+        )
+    check.no_overflow(
+        integral, "the integral of the commands", commands=commands, command_t=command_t
     )
     mean_u = np.stack(
         [
@@ -739,14 +765,17 @@ def fit_measurement_noise(z, c, poses, m):
         raise ValueError(f"poses must have shape ({z.shape[0]}, 3), got {poses.shape}")
     if z.shape[0] < 2:
         raise ValueError("z: at least two measurements are needed to fit a noise")
-    z_hat = _landmark_measurement_core(poses, m[c, :2])
-    res = np.stack([z[:, 0] - z_hat[:, 0], angle_diff(z[:, 1], z_hat[:, 1])], axis=-1)
-    med = np.median(res, axis=0)
-    return MeasurementNoiseFit(
-        bias=res.mean(axis=0),
-        sigma=res.std(axis=0),
-        robust_sigma=1.4826 * np.median(np.abs(res - med), axis=0),
-    )
+    with np.errstate(over="ignore", invalid="ignore"):  # reported below, naming the inputs
+        z_hat = _landmark_measurement_core(poses, m[c, :2])
+        res = np.stack([z[:, 0] - z_hat[:, 0], angle_diff(z[:, 1], z_hat[:, 1])], axis=-1)
+        med = np.median(res, axis=0)
+        fit = MeasurementNoiseFit(
+            bias=res.mean(axis=0),
+            sigma=res.std(axis=0),
+            robust_sigma=1.4826 * np.median(np.abs(res - med), axis=0),
+        )
+    check.no_overflow(np.concatenate(fit), "the residuals' statistics", z=z, poses=poses, m=m)
+    return fit
 
 
 @dataclass(frozen=True)
@@ -790,6 +819,23 @@ def _nonnegative_lstsq(X: np.ndarray, y: np.ndarray) -> np.ndarray:
             if cost < best_cost:
                 best, best_cost = a, cost
     return best
+
+
+def _predicted(x0, Sigma0, u_w, dt_w, alpha, u, dt, poses):
+    """One window's prediction (Table 7.2), an overflow reported against the fit's arguments."""
+    try:
+        with np.errstate(over="ignore", invalid="ignore"):
+            mus, Sig = _predict_segment(x0, Sigma0, u_w, dt_w, alpha)
+    except _NonFinite:
+        mus = Sig = np.array([np.inf])
+    check.no_overflow(
+        np.concatenate([mus.ravel(), Sig.ravel()]),
+        "a window's prediction",
+        u=u,
+        dt=dt,
+        poses=poses,
+    )
+    return mus, Sig
 
 
 def fit_motion_noise(u, dt, poses, *, window):
@@ -841,33 +887,47 @@ def fit_motion_noise(u, dt, poses, *, window):
     if poses.shape != (n + 1, 3):
         raise ValueError(f"poses must have shape ({n + 1}, 3), got {poses.shape}")
     window = check.positive_scalar(window, "window")
-    begins = np.concatenate([[0.0], np.cumsum(dt[:-1])])
+    with np.errstate(over="ignore"):
+        begins = np.concatenate([[0.0], np.cumsum(dt[:-1])])
+    check.no_overflow(begins, "the time sum(dt)", dt=dt)
     # A step belongs to the window its start falls in (tolerant of summed rounding).
-    label = np.floor(begins / window + 1e-9).astype(int)
-    cuts = np.concatenate([[0], np.flatnonzero(np.diff(label)) + 1, [n]])
+    with np.errstate(over="ignore"):
+        label = np.floor(begins / window + 1e-9)
+    if np.all(np.isfinite(label)):
+        cuts = np.concatenate([[0], np.flatnonzero(np.diff(label) != 0) + 1, [n]])
+    else:  # a window below every step's length divided by 1.8e308: one step each
+        cuts = np.arange(n + 1)
     zero3 = np.zeros((3, 3))
     errors, design, starts = [], [], []
     for a, b in itertools.pairwise(cuts.tolist()):
-        mus, _ = _predict_segment(poses[a], zero3, u[a:b], dt[a:b], np.zeros(4))
+        mus, _ = _predicted(poses[a], zero3, u[a:b], dt[a:b], np.zeros(4), u, dt, poses)
         e = poses[b] - mus[-1]
         e[2] = angle_diff(poses[b, 2], mus[-1, 2])
         move = mus[-1, :2] - poses[a, :2]
         heading = math.atan2(move[1], move[0]) if np.hypot(*move) > 0 else float(poses[a, 2])
         c, s_ = math.cos(heading), math.sin(heading)
         errors.append([c * e[0] + s_ * e[1], -s_ * e[0] + c * e[1], e[2]])
-        w2 = dt[a:b] ** 2
-        design.append([w2 @ u[a:b, 0] ** 2, w2 @ u[a:b, 1] ** 2])
+        with np.errstate(over="ignore", invalid="ignore"):
+            w2 = dt[a:b] ** 2
+            design.append([w2 @ u[a:b, 0] ** 2, w2 @ u[a:b, 1] ** 2])
         starts.append((a, b))
     errors = np.array(errors)
     X = np.array(design)
+    check.no_overflow(X, "the sums of dt² v² and dt² ω²", u=u, dt=dt)
+    with np.errstate(over="ignore"):
+        squared = errors[:, [0, 2]] ** 2
+    check.no_overflow(squared, "the squared window errors", poses=poses, u=u, dt=dt)
     if np.count_nonzero(np.any(X > 0, axis=1)) < 2:
-        raise ValueError("fewer than two windows with motion: cannot fit the noise")
+        raise ValueError(
+            f"u, dt and window = {window!r} s give fewer than two windows with motion "
+            "(sum of dt² v² or dt² ω² above 0 in float64): cannot fit the noise"
+        )
     alpha = np.concatenate(
-        [_nonnegative_lstsq(X, errors[:, 0] ** 2), _nonnegative_lstsq(X, errors[:, 2] ** 2)]
+        [_nonnegative_lstsq(X, squared[:, 0]), _nonnegative_lstsq(X, squared[:, 1])]
     )
     nees_w = np.full(len(errors), np.nan)
     for w, (a, b) in enumerate(starts):
-        mus, Sig = _predict_segment(poses[a], zero3, u[a:b], dt[a:b], alpha)
+        mus, Sig = _predicted(poses[a], zero3, u[a:b], dt[a:b], alpha, u, dt, poses)
         eig = np.linalg.eigvalsh(Sig[-1])
         if eig[0] > 1e-9 * eig[-1]:
             nees_w[w] = nees(poses[b], mus[-1], Sig[-1])

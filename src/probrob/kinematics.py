@@ -80,7 +80,12 @@ def _interpolate_track(t, poses, t_out):
     way. The one implementation behind :func:`probrob.fitting.interpolate_poses` and
     :meth:`probrob.datasets.MRCLAM.ground_truth_at`, which check their inputs first.
     """
-    heading = np.unwrap(poses[:, 2])
+    heading = poses[:, 2]
+    if heading.size and np.max(np.abs(heading)) > 2.0**52:
+        # beyond 2**52 rad a float angle has lost its place in the turn (and the differences
+        # that unwrap sums may overflow): unwrap the wrapped headings, the same directions
+        heading = wrap_angle(heading)
+    heading = np.unwrap(heading)
     return np.stack(
         [
             np.interp(t_out, t, poses[:, 0]),
@@ -564,6 +569,7 @@ def cir_state_jacobians(x_prev, u, wheelbase):
     s_sx, s_dx, ell = _wheels(u, wheelbase)
     check.batch_shape(x_prev=x_prev.shape[:-1], u=s_sx.shape)
     controls = np.stack([0.5 * (s_sx + s_dx), (s_dx - s_sx) / ell], axis=-1)
+    check.no_overflow(controls, "the step's (ds, dθ)", u=u, wheelbase=ell)
     G, V = velocity_motion_jacobians(x_prev * _FLIP, controls, 1.0)
     J = np.zeros((*ell.shape, 2, 2))
     J[..., 0, :] = 0.5

@@ -537,8 +537,8 @@ def ukf_weights(n: int, ukf_alpha: float = 1.0, beta: float = 2.0, kappa: float 
     """
     n = check.count(n, "n", 1)
     a = check.positive_scalar(ukf_alpha, "ukf_alpha")
-    beta = float(check.finite(beta, "beta"))
-    kappa = float(check.finite(kappa, "kappa"))
+    beta = check.real_scalar(beta, "beta")
+    kappa = check.real_scalar(kappa, "kappa")
     return _ukf_weights(n, a, beta, kappa)
 
 
@@ -579,8 +579,8 @@ def _weights_cached(n, a, beta, kappa):
 
 def _ukf_params(ukf_alpha, beta, kappa):
     a = check.positive_scalar(ukf_alpha, "ukf_alpha")
-    beta = float(check.finite(beta, "beta"))
-    kappa = float(check.finite(kappa, "kappa"))
+    beta = check.real_scalar(beta, "beta")
+    kappa = check.real_scalar(kappa, "kappa")
     _weights_cached(5, a, beta, kappa)  # the smallest state: a step without features
     return a, beta, kappa
 
@@ -857,29 +857,78 @@ class FilterRun:
 _METHODS = ("ekf", "ekf_ml", "ukf", "ukf_ml")
 
 
+_STEP_FIELDS = ("t", "dt", "u", "z", "c")
+
+
+def _step_number(value, name: str) -> float:
+    """A step's ``t`` or ``dt``: one real number (finiteness is checked for all steps at once)."""
+    if type(value) is float or type(value) is np.float64:  # the common case, fast
+        return value
+    arr = check.as_float_array(value, name)
+    if arr.ndim != 0:
+        raise ValueError(f"{name} must be one number, got shape {arr.shape}")
+    return float(arr)
+
+
+def _step_control(value, name: str):
+    """A step's ``u``: (v, ω), two real numbers."""
+    if type(value) is np.ndarray and value.dtype == np.float64 and value.shape == (2,):
+        return value
+    arr = check.as_float_array(value, name)
+    if arr.shape != (2,):
+        raise ValueError(f"{name} must be (v, omega), shape (2,), got shape {arr.shape}")
+    return arr
+
+
 def _read_steps(steps, m, signatures, known):
     """The steps' times, lengths, controls, features and correspondences, checked."""
-    if not (hasattr(steps, "__len__") and hasattr(steps, "__iter__")):
+    if (
+        isinstance(steps, str | bytes | dict)
+        or not hasattr(steps, "__len__")
+        or not hasattr(steps, "__iter__")
+    ):
         raise ValueError(f"steps must be a sequence of steps, got {check._short(steps)}")
     T = len(steps)
+    if T == 0:
+        raise ValueError("steps is empty: a run needs at least one step")
     t, dts, us = np.empty(T), np.empty(T), np.empty((T, 2))
     zs, cs = [], []
     no_z = np.zeros((0, 3 if signatures else 2))
     no_c = np.zeros(0, dtype=int)
     for i, step in enumerate(steps):
-        t[i], dts[i], us[i] = step.t, step.dt, step.u
-        if len(step.z) == 0:  # most steps of a real run: nothing to check
+        try:
+            t_i, dt_i, u_i, z_i = step.t, step.dt, step.u, step.z
+        except AttributeError:
+            missing = [f for f in _STEP_FIELDS if not hasattr(step, f)]
+            raise ValueError(
+                f"steps[{i}] must have the attributes t, dt, u, z and c (e.g. a "
+                f"probrob.simulation.Step), got {type(step).__name__} without "
+                f"{', '.join(missing)}"
+            ) from None
+        t[i] = _step_number(t_i, f"steps[{i}].t")
+        dts[i] = _step_number(dt_i, f"steps[{i}].dt")
+        us[i] = _step_control(u_i, f"steps[{i}].u")
+        try:
+            n_features = len(z_i)
+        except TypeError:
+            raise ValueError(
+                f"steps[{i}].z must be the step's features, shape (k, 3) (k = 0: none), got "
+                f"{check._short(z_i)}"
+            ) from None
+        if n_features == 0:  # most steps of a real run: nothing to check
             zs.append(no_z)
             cs.append(no_c)
             continue
-        z = check.features(step.z, f"steps[{i}].z")
+        z = check.features(z_i, f"steps[{i}].z")
         zs.append(z if signatures else z[:, :2])
+        if known and not hasattr(step, "c"):
+            raise ValueError(f"steps[{i}] has features but no attribute c (their landmarks)")
         cs.append(
             check.landmark_indices(step.c, f"steps[{i}].c", z.shape[0], m.shape[0])
             if known
             else None
         )
-    for name, values in (("u", us), ("dt", dts)):
+    for name, values in (("t", t), ("u", us), ("dt", dts)):
         bad = np.flatnonzero(~np.all(np.isfinite(values.reshape(T, -1)), axis=1))
         if bad.size:
             i = int(bad[0])

@@ -69,6 +69,10 @@ _PULL_BACK = 1e-10
 # Smallest magnitude of a ray direction component (see ray_cast): the smallest normal double.
 _TINY = np.finfo(float).tiny
 
+# A cell index beyond 2**52 cells: floats no longer separate neighbouring cells there (and
+# int64 wraps beyond 2**63); probrob.mcl refuses the same in its histogram bins.
+_CELL_LIMIT = 2.0**52
+
 
 class OccupancyGrid:
     r"""A 2-D occupancy grid map.
@@ -149,13 +153,28 @@ class OccupancyGrid:
 
         Returns
         -------
-        ij : ndarray of int, shape (..., 2)
+        ij : ndarray of int64, shape (..., 2)
             Row ``i`` (y) and column ``j`` (x); may lie outside the grid (see
             :meth:`contains`).
+
+        Raises
+        ------
+        ValueError
+            Naming ``xy``, for a point 2**52 or more cells from the grid's origin: there a
+            float coordinate no longer separates neighbouring cells (and beyond 2**63 an
+            int64 index would wrap).
         """
         xy = check.vectors(xy, "xy", 2, "x, y")
-        g = np.floor((xy - self.origin) / self.resolution).astype(np.int64)
-        return g[..., ::-1]
+        with np.errstate(over="ignore", invalid="ignore"):
+            g = np.floor((xy - self.origin) / self.resolution)
+        if not np.all(np.abs(g) < _CELL_LIMIT):
+            k = tuple(int(n) for n in np.argwhere(~(np.abs(g) < _CELL_LIMIT))[0][:-1])
+            raise ValueError(
+                f"xy = {xy[k].tolist()} lies 2**52 or more cells of {self.resolution!r} m "
+                f"from the grid's origin {self.origin.tolist()}: its cell cannot be told from "
+                "its neighbours (is xy in metres?)"
+            )
+        return g.astype(np.int64)[..., ::-1]
 
     def cell_to_world(self, ij) -> np.ndarray:
         """Return the world coordinates of cell centres.

@@ -28,6 +28,7 @@ from scipy.special import logsumexp
 from scipy.stats import norm
 
 from . import _validation as check
+from .angles import _diff as _angle_diff
 from .angles import wrap_angle
 from .distributions import sample_normal_distribution
 from .maps import _check_grid
@@ -56,6 +57,8 @@ __all__ = [
 ]
 
 _SENSORS = ("likelihood_field", "beam")
+_LOG_FLOAT_MAX = math.log(np.finfo(float).max)
+_MAX_PARTICLES = 10**9
 
 
 # ---------------------------------------------------------------------- argument checks
@@ -118,7 +121,8 @@ def _weights(weights, name: str = "weights") -> np.ndarray:
         raise ValueError(f"{name} must be non-negative, got min {w.min()!r}")
     if np.any(np.isinf(w)):
         raise ValueError(f"{name} must be finite (an infinite weight cannot be normalised)")
-    total = w.sum()
+    with np.errstate(over="ignore"):  # finite weights whose sum overflows: handled below
+        total = w.sum()
     if not total > 0:
         raise ValueError(f"{name} are all zero: there is no particle to resample from")
     if not np.isfinite(total):
@@ -206,7 +210,10 @@ def effective_sample_size(weights, *, log=False) -> float:
     r"""Return :math:`N_{eff} = 1 / \sum_i \tilde w_i^2` of normalised weights :math:`\tilde w`.
 
     *Probabilistic Robotics*, Sec. 4.3.4 (the variance of the weights); ``N`` for equal
-    weights, ``1`` when one particle carries all the weight.
+    weights, ``1`` when one particle carries all the weight, and always in :math:`[1, N]`.
+    Computed as :math:`(\sum_i a_i)^2 / \sum_i a_i^2` of the weights divided by the largest
+    (:math:`a_i = w_i / \max_j w_j`, or :math:`e^{\ell_i - \max_j \ell_j}` of log-weights
+    :math:`\ell`): nothing overflows or underflows away, whatever the weights' scale.
 
     Parameters
     ----------
@@ -214,6 +221,10 @@ def effective_sample_size(weights, *, log=False) -> float:
         Weights (or log-weights with ``log=True``; ``-inf`` allowed there).
     log : bool
         ``weights`` are log-weights.
+
+    Returns
+    -------
+    float
     """
     if check.flag(log, "log"):
         lw = check.as_float_array(weights, "weights")
@@ -221,10 +232,12 @@ def effective_sample_size(weights, *, log=False) -> float:
             raise ValueError("weights (log) must have shape (N,) with no NaN and no +inf")
         if not np.isfinite(lw).any():
             raise ValueError("weights are all zero (log -inf): N_eff is undefined")
-        w = _normalise_log(lw)
+        a = np.exp(lw - lw.max())  # exact 1 at the largest: log-sum-exp loses no log 2 here
     else:
         w = _weights(weights)
-    return float(1.0 / np.sum(w * w))
+        a = w / w.max()
+    n_eff = float(np.sum(a) ** 2 / np.sum(a * a))
+    return min(max(n_eff, 1.0), float(a.size))  # rounding never takes it out of [1, N]
 
 
 # ---------------------------------------------------------------------- initial particles
@@ -270,6 +283,8 @@ def uniform_particles(grid, n, rng=None, *, free=None, uniforms=None) -> np.ndar
     cells = np.flatnonzero(mask)
     if cells.size == 0:
         raise ValueError("the map has no free cell to draw particles from")
+    if n > _MAX_PARTICLES:  # numpy's "Maximum allowed dimension exceeded", or MemoryError
+        raise ValueError(f"n = {n} particles is more than {_MAX_PARTICLES:.0e}, 24 GB of poses")
     if uniforms is None:
         pick = cells[gen.integers(cells.size, size=n)]
         inside = gen.random((n, 2))
@@ -554,12 +569,16 @@ def augmented_mcl(
     n = x.shape[0]
     x_bar = _predict(x, u, alpha, gen)  # line 6
     log_w = _log_weights(x_bar, z, grid, angles, p, sensor, exponent)  # line 7
-    w_avg = math.exp(logsumexp(log_w) - math.log(n)) if np.isfinite(log_w).any() else 0.0
-    if not math.isfinite(w_avg):
-        raise ValueError(
-            "the mean measurement likelihood w_avg overflows float64 "
-            "(too many beams on a linear scale: use fewer beams or exponent < 1)"
+    log_avg = logsumexp(log_w) - math.log(n) if np.isfinite(log_w).any() else -math.inf
+    if log_avg > _LOG_FLOAT_MAX:  # math.exp would raise OverflowError
+        raise check.overflow_error(
+            f"the mean measurement likelihood w_avg of Table 8.3 (log w_avg = {log_avg:.6g}; "
+            "too many beams on a linear scale: use fewer beams or exponent < 1)",
+            z=z,
+            exponent=exponent,
+            **{"params.sigma_hit": p.sigma_hit, "params.max_range": p.max_range},
         )
+    w_avg = math.exp(log_avg)
     w_slow = float(w_slow) + a_slow * (w_avg - float(w_slow))  # line 11
     w_fast = float(w_fast) + a_fast * (w_avg - float(w_fast))  # line 12
     p_random = max(0.0, 1.0 - w_fast / w_slow) if w_slow > 0 else 0.0  # line 14
@@ -803,16 +822,29 @@ class PoseEstimate(NamedTuple):
     """The share of the total weight inside the cluster (1 for a unimodal, converged set)."""
 
 
-def estimate_pose(particles, weights=None, *, radius=0.5) -> PoseEstimate:
+def _dense_ranks(column: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct values of ``column - 1``, ``column``, ``column + 1`` (int64, sorted) and
+    the rank of each entry of ``column`` among them: neighbouring cells keep neighbouring
+    labels, and a label never exceeds 3 N, however far the cells are from the origin."""
+    values = np.unique(np.concatenate([column - 1, column, column + 1]))
+    return values, np.searchsorted(values, column)
+
+
+def estimate_pose(particles, weights=None, *, radius=0.5, heading_bins=12) -> PoseEstimate:
     r"""Return the pose of the heaviest cluster of particles, right for a multimodal set.
 
-    The mean of a multimodal particle set lies between its modes, often inside a wall. Here
-    the particles are binned in (x, y) at ``radius``; the block of 3 × 3 bins that holds the
-    most weight seeds the cluster (a block, so that a mode split by bin edges is not
-    outweighed by a smaller one that fits in one bin); the cluster holds every particle
-    within ``2·radius`` of the block's weighted mean, in x and y; the estimate is the
-    cluster's weighted mean (circular in θ). Compare amcl, which reports the mean of its
-    heaviest k-d-tree cluster.
+    The mean of a multimodal particle set lies between its modes, often inside a wall, and
+    the mean heading of two headings half a turn apart is one that neither has. Here the
+    particles are binned in :math:`(x, y, \theta)`: squares of side ``radius`` and
+    ``heading_bins`` equal sectors of heading that wrap at :math:`\pm\pi` (as amcl's k-d
+    tree bins in :math:`(x, y, \theta)`). The block of 3 × 3 × 3 bins that holds the most
+    weight seeds the cluster (a block, so that a mode split by bin edges is not outweighed
+    by a smaller one that fits in one bin; ties go to the first block in (x, y, θ) order);
+    the cluster holds every particle within ``2·radius`` of the block's weighted mean in x
+    and y and within two sectors of its circular mean heading; the estimate is the cluster's
+    weighted mean (circular in θ). The cluster spans at most four sectors of heading, less
+    than half a turn, so its mean heading lies among its particles' headings. Compare amcl,
+    which reports the mean of its heaviest k-d-tree cluster.
 
     Parameters
     ----------
@@ -820,43 +852,84 @@ def estimate_pose(particles, weights=None, *, radius=0.5) -> PoseEstimate:
     weights : array_like, shape (N,), optional
         Default: equal weights.
     radius : float
-        Cluster scale (m), > 0.
+        Cluster scale in x and y (m), > 0.
+    heading_bins : int
+        Number of heading sectors, 9 (so that a cluster spans less than half a turn) to
+        2**20; the default 12 makes them 30° wide.
 
     Returns
     -------
     PoseEstimate
+
+    Raises
+    ------
+    ValueError
+        Naming the argument, for a bad one; naming ``particles`` and ``radius`` when a
+        particle lies 2**52 or more bins of side ``radius`` from the origin, where
+        floating-point positions no longer separate neighbouring bins.
     """
     x = _particles(particles)
     w = np.full(x.shape[0], 1.0 / x.shape[0]) if weights is None else _weights(weights)
     if w.size != x.shape[0]:
         raise ValueError(f"weights must have shape ({x.shape[0]},), got {w.shape}")
     radius = check.positive_scalar(radius, "radius")
-    limit = 2.0**40  # bins far beyond any map: the clip keeps the integer codes exact
-    cells = np.clip(np.floor(x[:, :2] / radius), -limit, limit).astype(np.int64)
-    keys, inverse = np.unique(cells, axis=0, return_inverse=True)
+    n_theta = check.count(heading_bins, "heading_bins", minimum=9)
+    if n_theta > 2**20:  # sectors below a microradian: the int64 bin labels would not hold
+        raise ValueError(f"heading_bins must be at most 2**20, got {n_theta}")
+    with np.errstate(over="ignore", invalid="ignore"):
+        scaled = np.floor(x[:, :2] / radius)
+    if not np.all(np.abs(scaled) < _BIN_LIMIT):
+        far = float(np.max(np.abs(x[:, :2])))
+        raise ValueError(
+            f"particles lie {far:.3g} m from the origin, 2**52 or more bins of radius "
+            f"{radius!r} m: they cannot be binned exactly (is radius too small, or a "
+            "particle too far?)"
+        )
+    cells = scaled.astype(np.int64)
+    theta = wrap_angle(x[:, 2])
+    sector = 2.0 * np.pi / n_theta
+    k_theta = np.minimum(np.floor((theta + np.pi) / sector), n_theta - 1).astype(np.int64)
+    # dense labels: x and y by rank (neighbours included), θ by sector; at most 9 N² n_theta
+    values_x, rank_x = _dense_ranks(cells[:, 0])
+    values_y, rank_y = _dense_ranks(cells[:, 1])
+    span_y = values_y.size
+    if (values_x.size * span_y) * n_theta >= 2**62:
+        raise ValueError(
+            f"too many particles ({x.shape[0]}) for the int64 bin labels at heading_bins {n_theta}"
+        )
+    label = (rank_x * span_y + rank_y) * n_theta + k_theta
+    keys, first, inverse = np.unique(label, return_index=True, return_inverse=True)
     inverse = inverse.reshape(-1)
     # equal weights: whole counts, so that ties between blocks are exact (and broken by order)
     mass = np.bincount(inverse, weights=None if weights is None else w, minlength=len(keys))
-    # one sorted integer code per occupied bin (np.unique sorts the rows lexicographically)
-    shifted = keys - keys.min(axis=0) + 1
-    span = int(shifted[:, 1].max()) + 2
-    code = shifted[:, 0] * span + shifted[:, 1]
+    key_x, key_y, key_t = cells[first, 0], cells[first, 1], k_theta[first]
     block = np.zeros(len(keys))
     for di in (-1, 0, 1):
+        rx = np.searchsorted(values_x, key_x + di)
         for dj in (-1, 0, 1):
-            target = code + di * span + dj
-            pos = np.minimum(np.searchsorted(code, target), len(code) - 1)
-            block += np.where(code[pos] == target, mass[pos], 0.0)
-    seed_key = keys[int(np.argmax(block))]
-    seed = np.all(np.abs(cells - seed_key) <= 1, axis=1)
-    centre = np.average(x[seed, :2], axis=0, weights=w[seed])
-    near = np.all(np.abs(x[:, :2] - centre) <= 2.0 * radius, axis=1)
+            ry = np.searchsorted(values_y, key_y + dj)
+            for dk in (-1, 0, 1):
+                target = (rx * span_y + ry) * n_theta + (key_t + dk) % n_theta
+                pos = np.minimum(np.searchsorted(keys, target), len(keys) - 1)
+                block += np.where(keys[pos] == target, mass[pos], 0.0)
+    best = int(np.argmax(block))
+    seed = np.all(np.abs(cells - cells[first[best]]) <= 1, axis=1) & (
+        np.abs((k_theta - key_t[best] + 1) % n_theta) <= 2
+    )
+    ws = w[seed]
+    centre = np.average(x[seed, :2], axis=0, weights=ws)
+    heading = math.atan2(
+        float(np.sum(ws * np.sin(theta[seed]))), float(np.sum(ws * np.cos(theta[seed])))
+    )
+    near = np.all(np.abs(x[:, :2] - centre) <= 2.0 * radius, axis=1) & (
+        np.abs(_angle_diff(theta, heading)) <= 2.0 * sector
+    )
     wc = w[near]
     xy = np.average(x[near, :2], axis=0, weights=wc)
-    theta = math.atan2(
-        float(np.sum(wc * np.sin(x[near, 2]))), float(np.sum(wc * np.cos(x[near, 2])))
+    theta_c = math.atan2(
+        float(np.sum(wc * np.sin(theta[near]))), float(np.sum(wc * np.cos(theta[near])))
     )
-    return PoseEstimate(np.array([xy[0], xy[1], theta]), float(wc.sum()))
+    return PoseEstimate(np.array([xy[0], xy[1], theta_c]), float(wc.sum()))
 
 
 # ---------------------------------------------------------------------- a whole run

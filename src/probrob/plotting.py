@@ -339,7 +339,8 @@ def motion_extent(points, *, include=(), pad=0.15, min_size=0.5):
     min_size = check.finite(min_size, "min_size")
     if pad.ndim or pad < 0 or min_size.ndim or min_size < 0:
         raise ValueError(f"pad and min_size must be numbers >= 0, got {pad!r}, {min_size!r}")
-    lo, hi = np.percentile(pts, 0.5, axis=0), np.percentile(pts, 99.5, axis=0)
+    with np.errstate(over="ignore", invalid="ignore"):  # ±1e308 points: reported below
+        lo, hi = np.percentile(pts, 0.5, axis=0), np.percentile(pts, 99.5, axis=0)
     if len(include):
         extra = check.finite(include, "include")
         if extra.shape[-1] < 2:
@@ -348,9 +349,12 @@ def motion_extent(points, *, include=(), pad=0.15, min_size=0.5):
             )
         extra = extra[..., :2].reshape(-1, 2)
         lo, hi = np.minimum(lo, extra.min(axis=0)), np.maximum(hi, extra.max(axis=0))
-    centre = (lo + hi) / 2
-    half = max(float(np.max(hi - lo)) / 2 * (1 + 2 * pad), min_size / 2)
-    return (centre[0] - half, centre[0] + half, centre[1] - half, centre[1] + half)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is reported below
+        centre = (lo + hi) / 2
+        half = max(float(np.max(hi - lo)) / 2 * (1 + 2 * pad), min_size / 2)
+        box = (centre[0] - half, centre[0] + half, centre[1] - half, centre[1] + half)
+    check.no_overflow(box, "the extent", points=pts, include=include, pad=pad)
+    return box
 
 
 def _model_calls(model, u_t, x_prev, alpha, dt, noise, prob, sample):

@@ -51,7 +51,7 @@ from dataclasses import dataclass, field
 from types import SimpleNamespace
 
 import numpy as np
-from scipy.special import ndtr, ndtri
+from scipy.special import erf, ndtr, ndtri
 
 from . import _validation as check
 from .angles import _wrap, wrap_angle
@@ -102,14 +102,22 @@ def _map(m) -> np.ndarray:
 
 def _correspondences(c, count: int) -> np.ndarray:
     arr = np.asarray(c)
-    if arr.dtype.kind not in "iu":
-        if arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.round(arr)):
-            arr = arr.astype(np.intp)
-        else:
-            raise ValueError(f"c must hold integer landmark indices, got {c!r}")
+    if arr.dtype.kind not in "iu" and not (
+        arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.round(arr))
+    ):
+        raise ValueError(f"c must hold integer landmark indices, got {c!r}")
+    # the range before the cast: an integral 1e300 would wrap the index type
     if np.any(arr < 0) or np.any(arr >= count):
         raise ValueError(f"c must index the map's {count} landmarks (0..{count - 1}), got {c!r}")
-    return arr
+    return arr.astype(np.intp, copy=False)
+
+
+def _feature_rows(f: np.ndarray) -> np.ndarray:
+    """Features (..., 2 or 3) whose ranges r are >= 0: no sensor measures a negative range
+    (the filters' :func:`probrob._validation.features` refuses it the same way)."""
+    if f.size and np.any(f[..., 0] < 0):
+        raise ValueError(f"f: ranges r must be >= 0, got min {float(f[..., 0].min())!r}")
+    return f
 
 
 def _relative(x, m):
@@ -143,9 +151,14 @@ def _jacobian_entries(dx, dy):
     ``dx, dy`` the landmark minus the pose (floats or arrays, unchecked). Raises
     ``ValueError`` where the pose coincides with its landmark (:math:`q = 0`).
     """
-    q = dx * dx + dy * dy
+    with np.errstate(over="ignore"):
+        q = dx * dx + dy * dy
     if (q == 0.0) if type(q) is float else np.any(q == 0):
         raise ValueError("x coincides with a landmark of m: the bearing has no Jacobian there")
+    if (q == math.inf) if type(q) is float else np.any(np.isinf(q)):
+        # q beyond float64 (a landmark 1e154 m away): the same entries through r = hypot
+        r = _xp(dx).hypot(dx, dy)
+        return -dx / r, -dy / r, dy / r / r, -dx / r / r
     r = _xp(q).sqrt(q)
     return -dx / r, -dy / r, dy / q, -dx / q
 
@@ -202,7 +215,15 @@ def landmark_measurement(x, m):
     x = check.poses(x, "x")
     m = _landmark_rows(m)
     batch = check.batch_shape(x=x.shape[:-1], m=m.shape[:-1])
-    return _landmark_measurement_core(x, m, batch)
+    return _measured(x, m, batch)
+
+
+def _measured(x, m, batch=None):
+    """:func:`_landmark_measurement_core`, a range beyond float64 reported against x and m."""
+    with np.errstate(over="ignore"):
+        z_hat = _landmark_measurement_core(x, m, batch)
+    check.no_overflow(z_hat[..., 0], "the range to the landmark", x=x, m=m)
+    return z_hat
 
 
 def landmark_measurement_jacobian(x, m):
@@ -240,7 +261,19 @@ def landmark_measurement_jacobian(x, m):
     x = check.poses(x, "x")
     m = _landmark_rows(m)
     batch = check.batch_shape(x=x.shape[:-1], m=m.shape[:-1])
+    with np.errstate(over="ignore"):
+        dx, dy = _relative(x, m)
+        r = np.hypot(dx, dy)
+    check.no_overflow(r, "the distance to the landmark", x=x, m=m)
     return _landmark_jacobian_core(x, m, batch)
+
+
+def _variances(sig):
+    """σ² of standard deviations; one beyond float64 (σ > 1.3e154) reported against sigmas."""
+    with np.errstate(over="ignore"):
+        sig2 = np.square(sig)
+    check.no_overflow(sig2, "the variance sigmas**2", sigmas=sig)
+    return sig2
 
 
 def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
@@ -284,15 +317,16 @@ def landmark_model_known_correspondence(f, c, x, m, sigmas, *, log=False):
     q : float or ndarray, broadcast batch shape
     """
     log = check.flag(log, "log")
-    f = check.vectors(f, "f", 3, "r, phi, s")
+    f = _feature_rows(check.vectors(f, "f", 3, "r, phi, s"))
     x = check.poses(x, "x")
     m = _map(m)
     if m.shape[-1] != 3:
         raise ValueError(f"m must have shape (L, 3) (x, y, s) for signatures, got {m.shape}")
     c = _correspondences(c, m.shape[0])
-    sig2 = np.square(check.sigmas(sigmas, "sigmas", (3,), positive=False))
+    sig = check.sigmas(sigmas, "sigmas", (3,), positive=False)
+    sig2 = _variances(sig)
     check.batch_shape(f=f.shape[:-1], c=c.shape, x=x.shape[:-1])
-    z_hat = _landmark_measurement_core(x, m[c])
+    z_hat = _measured(x, m[c])
     errors = (
         f[..., 0] - z_hat[..., 0],
         _wrap(f[..., 1] - z_hat[..., 1]),
@@ -364,6 +398,7 @@ def sample_landmark_model_known_correspondence(
     f = check.finite(f, "f")
     if f.ndim == 0 or f.shape[-1] not in (2, 3):
         raise ValueError(f"f must have shape (..., 3) (r, phi, s) or (..., 2), got {f.shape}")
+    f = _feature_rows(f)
     m = _map(m)
     c = _correspondences(c, m.shape[0])
     sig = check.sigmas(sigmas, "sigmas", (2, 3), positive=False)
@@ -371,12 +406,13 @@ def sample_landmark_model_known_correspondence(
     shape = check.output_shape(check.batch_shape(f=f.shape[:-1], c=c.shape), size)
     rng = check.rng(rng)
 
+    sig2 = _variances(sig)
     gamma = rng.uniform(0.0, _TWO_PI, size=shape)
     r_hat = f[..., 0] + check.sample_output(
-        sample(sig[0] ** 2, size=shape, rng=rng), "sample", shape, sample
+        sample(sig2[0], size=shape, rng=rng), "sample", shape, sample
     )
     phi_hat = f[..., 1] + check.sample_output(
-        sample(sig[1] ** 2, size=shape, rng=rng), "sample", shape, sample
+        sample(sig2[1], size=shape, rng=rng), "sample", shape, sample
     )
     landmark = m[c]
     out = np.empty((*shape, 3))
@@ -388,6 +424,8 @@ def sample_landmark_model_known_correspondence(
 
 # ---------------------------------------------------------------------- range finders
 _LOG_SQRT_2PI = 0.5 * np.log(2.0 * np.pi)
+_SQRT2 = math.sqrt(2.0)
+_LOG_FLOAT_MAX = math.log(np.finfo(float).max)
 _WEIGHT_TOL = 1e-6
 
 
@@ -475,17 +513,37 @@ def _check_expected(z_star, max_range):
 
 
 # ---------------------------------------------------------------------- components
+def _hit_mass(z_star, sigma, max_range):
+    """The N(z*, σ²) mass on [0, z_max] (the normaliser of p_hit, eq. 6.6):
+    Φ(b) − Φ(a) with a = −z*/σ ≤ 0 ≤ b = (z_max − z*)/σ.
+
+    Where both ends lie within a fraction of σ of z* (σ far above z_max) the difference of
+    two Φ near 1/2 cancels to nothing; the sum of the two half masses, erf(b/√2)/2 +
+    erf(−a/√2)/2, does not (it is used where the mass is below 1/4, the same number to
+    rounding elsewhere). A subnormal σ makes a and b infinite: Φ is exact there.
+    """
+    with np.errstate(over="ignore", divide="ignore"):
+        a, b = -z_star / sigma, (max_range - z_star) / sigma
+    mass = ndtr(b) - ndtr(a)
+    small = mass < 0.25
+    if np.any(small):
+        halves = 0.5 * (erf(b / _SQRT2) + erf(-a / _SQRT2))
+        mass = np.where(small, halves, mass)
+    return mass
+
+
 def _hit_log_mass(z_star, sigma, max_range):
-    """log of the N(z*, σ²) mass on [0, z_max] (the normaliser of p_hit, eq. 6.6)."""
-    return np.log(ndtr((max_range - z_star) / sigma) - ndtr(-z_star / sigma))
+    """log of the N(z*, σ²) mass on [0, z_max] (:func:`_hit_mass`)."""
+    return np.log(_hit_mass(z_star, sigma, max_range))
 
 
 def _log_components(z, z_star, p: BeamModelParams):
     """log p_hit, log p_short, log p_max, log p_rand; shape broadcast(z, z_star) + (4,)."""
     z, z_star = np.broadcast_arrays(z, z_star)
     zmax, sigma, lam = p.max_range, p.sigma_hit, p.lambda_short
-    u = (z - z_star) / sigma
-    log_hit = -0.5 * u * u - np.log(sigma) - _LOG_SQRT_2PI - _hit_log_mass(z_star, sigma, zmax)
+    with np.errstate(over="ignore"):  # a tiny σ: u² is inf far from z*, log p_hit -inf
+        u = (z - z_star) / sigma
+        log_hit = -0.5 * u * u - np.log(sigma) - _LOG_SQRT_2PI - _hit_log_mass(z_star, sigma, zmax)
     positive = z_star > 0
     zs = np.where(positive, z_star, 1.0)
     with np.errstate(divide="ignore"):
@@ -539,22 +597,47 @@ def beam_model_components(z, z_star, params, *, log=False):
     log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
+    check.batch_shape(z=z.shape, z_star=z_star.shape)
     out = _log_components(z, z_star, p)
-    return out if log else np.exp(out)
+    if log:
+        return out
+    with np.errstate(over="ignore"):
+        linear = np.exp(out)
+    _no_hit_overflow(out[..., 0], z, z_star, p)
+    return linear
+
+
+def _no_hit_overflow(log_hit, z, z_star, p):
+    """p_hit beyond float64 (at z* for a σ_hit near the smallest float, 1.8e308 per metre;
+    finite in logs) is reported against the arguments. Not p_short's 1/z* for a subnormal
+    z*, which is the point mass at 0 that z* = 0 has (inf, as documented)."""
+    check.no_overflow(
+        np.where(np.isfinite(log_hit) & (log_hit > _LOG_FLOAT_MAX), np.inf, 0.0),
+        "the beam model's density (finite with log=True)",
+        z=z,
+        z_star=z_star,
+        **{"params.sigma_hit": p.sigma_hit},
+    )
 
 
 def _mixture(z, z_star, p: BeamModelParams, log):
     """Beam mixture without input checks; see :func:`beam_mixture`."""
     zmax, sigma, lam = p.max_range, p.sigma_hit, p.lambda_short
     z, z_star = np.broadcast_arrays(z, z_star)
-    u = (z - z_star) / sigma
-    q = (p.z_hit / (sigma * np.sqrt(2.0 * np.pi))) * np.exp(-0.5 * u * u)
-    # p_hit's normaliser differs from 1 (in double precision) only within 9σ of 0 or z_max.
-    near = (z_star < 9.0 * sigma) | (z_star > zmax - 9.0 * sigma)
+    with np.errstate(over="ignore", invalid="ignore"):  # extreme σ: redone in logs below
+        u = (z - z_star) / sigma
+        q = (p.z_hit / (sigma * np.sqrt(2.0 * np.pi))) * np.exp(-0.5 * u * u)
+        # p_hit's normaliser differs from 1 (in double precision) only within 9σ of 0 or z_max.
+        near = (z_star < 9.0 * sigma) | (z_star > zmax - 9.0 * sigma)
     if near.any():
         zn = z_star[near]
         q = np.array(q, dtype=float)  # writable, also for 0-d input
-        q[near] /= ndtr((zmax - zn) / sigma) - ndtr(-zn / sigma)
+        q[near] /= _hit_mass(zn, sigma, zmax)
+    lost = ~np.isfinite(q)  # σ near the smallest float: inf · 0 far from z*, inf at it
+    if np.any(lost):
+        q = np.array(q, dtype=float)
+        with np.errstate(over="ignore"):
+            q[lost] = np.exp(_log_components(z[lost], z_star[lost], p)[..., 0] + np.log(p.z_hit))
     at_max = z >= zmax
     if p.z_short > 0:
         positive = z_star > 0
@@ -568,7 +651,8 @@ def _mixture(z, z_star, p: BeamModelParams, log):
         return q
     with np.errstate(divide="ignore"):
         out = np.asarray(np.log(q))
-    under = q == 0  # the hit term underflowed and nothing else is left: redo in logs
+    # the hit term underflowed and nothing else is left, or it overflowed: redo in logs
+    under = (q == 0) | (np.isposinf(q) & ~(z_star == 0))
     if np.any(under):
         lc = _log_components(z[under], z_star[under], p)
         with np.errstate(divide="ignore", invalid="ignore"):  # 0-weight terms: inf + -inf
@@ -614,7 +698,15 @@ def beam_mixture(z, z_star, params, *, log=False):
     log = check.flag(log, "log")
     z = _check_ranges(z, "z", p.max_range)
     z_star = _check_expected(z_star, p.max_range)
-    return check.scalar_or_array(_mixture(z, z_star, p, log))
+    check.batch_shape(z=z.shape, z_star=z_star.shape)
+    q = _mixture(z, z_star, p, log)
+    if not log and np.any(np.isposinf(q)):  # p_hit's overflow, or p_short's point mass?
+        z_b, zs_b = np.broadcast_arrays(z, z_star)
+        inf = np.isposinf(q)
+        log_hit = np.full(q.shape, -np.inf)
+        log_hit[inf] = _log_components(z_b[inf], zs_b[inf], p)[..., 0] + math.log(p.z_hit or 1.0)
+        _no_hit_overflow(log_hit, z, z_star, p)
+    return check.scalar_or_array(q)
 
 
 def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, method="hybrid"):
@@ -653,7 +745,21 @@ def beam_range_finder_model(z, x, grid, beam_angles, params, *, log=False, metho
     _check_inside(grid, x[..., :2], "x")  # here, so that the message names x, not "poses"
     z_star = ray_cast(grid, x, angles, p.max_range, method=method)
     lp = _mixture(z, z_star, p, log=True).sum(axis=-1)
-    return check.scalar_or_array(lp if log else np.exp(lp))
+    return check.scalar_or_array(lp if log else _likelihood(lp, p, z=z, x=x))
+
+
+def _likelihood(lp, p, **arguments):
+    """exp of a scan's log-likelihood; one that overflows float64 (finite in logs: a tiny
+    σ_hit or z_max, many beams) is reported against the arguments, a point mass (+inf) not."""
+    with np.errstate(over="ignore"):
+        q = np.exp(lp)
+    check.no_overflow(
+        np.where(np.isposinf(lp), 0.0, q),
+        "the scan's likelihood (finite with log=True)",
+        **arguments,
+        **{"params.sigma_hit": p.sigma_hit, "params.max_range": p.max_range},
+    )
+    return q
 
 
 def sample_beam_mixture(z_star, params, size=None, rng=None):
@@ -687,7 +793,8 @@ def sample_beam_mixture(z_star, params, size=None, rng=None):
     comp = rng.choice(4, size=shape, p=p.weights / p.weights.sum())
     u = rng.random(shape)
     zmax, sigma, lam = p.max_range, p.sigma_hit, p.lambda_short
-    lo, hi = ndtr(-zs / sigma), ndtr((zmax - zs) / sigma)
+    with np.errstate(over="ignore", divide="ignore"):  # a subnormal σ: ±inf, Φ exact there
+        lo, hi = ndtr(-zs / sigma), ndtr((zmax - zs) / sigma)
     hit = np.clip(zs + sigma * ndtri(lo + u * (hi - lo)), 0.0, zmax)
     short = -np.log1p(u * np.expm1(-lam * zs)) / lam
     z = np.select([comp == 0, comp == 1, comp == 2], [hit, short, np.full(shape, zmax)], u * zmax)
@@ -803,8 +910,17 @@ def _fit_lambda(e, z, z_star, max_range, m_step):
 
     def g(log_lam):
         lam = np.exp(log_lam)
-        with np.errstate(over="ignore"):  # exp(λ z*) beyond float64: its term is 0
-            return total / lam - np.sum(ew * zw) - np.sum(ew * zsw / np.expm1(lam * zsw))
+        with np.errstate(over="ignore", invalid="ignore"):  # exp(λ z*) beyond float64: 0
+            value = total / lam - np.sum(ew * zw) - np.sum(ew * zsw / np.expm1(lam * zsw))
+        if np.isfinite(value):
+            return value
+        # λ so small (z_max near the largest float) that 1/λ overflows: the 1/λ terms
+        # cancel; Σ e z* (1/x - 1/(e^x - 1)) - Σ e z with x = λ z*, 1/x - 1/(e^x - 1) =
+        # 1/2 - x/12 + x³/720 - ... for small x
+        x = lam * zsw
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # unused branch
+            h = np.where(x < 1e-4, 0.5 - x / 12 + x**3 / 720, 1 / x - 1 / np.expm1(x))
+        return float(np.sum(ew * zsw * h) - np.sum(ew * zw))
 
     lo, top = np.log(1e-6 / max_range), np.log(1e9 / max_range)
     if g(lo) <= 0:
@@ -885,6 +1001,7 @@ def learn_intrinsic_parameters(
     max_range = check.positive_scalar(max_range, "max_range")
     z = _check_ranges(z, "z", max_range)
     z_star = _check_expected(z_star, max_range)
+    check.batch_shape(z=z.shape, z_star=z_star.shape)
     z, z_star = (a.ravel() for a in np.broadcast_arrays(z, z_star))
     if z.size == 0:
         raise ValueError("z must hold at least one reading")
@@ -903,7 +1020,9 @@ def learn_intrinsic_parameters(
     p = _check_params(init)
     if p.max_range != max_range:
         raise ValueError("init.max_range must equal max_range")
-    d2 = (z - z_star) ** 2
+    with np.errstate(over="ignore"):
+        d2 = (z - z_star) ** 2
+    check.no_overflow(d2, "the squared error (z - z_star)**2", z=z, z_star=z_star)
     history = []
     converged = False
     n_iter = 0
@@ -970,7 +1089,7 @@ def likelihood_field_table(grid, params):
     if cached is not None:
         return cached
     d = grid.distance_field
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore"):  # σ near the smallest float: -inf
         log_hit = (
             np.log(p.z_hit) - 0.5 * (d / p.sigma_hit) ** 2 - np.log(p.sigma_hit) - _LOG_SQRT_2PI
         )
@@ -1043,7 +1162,7 @@ def likelihood_field_range_finder_model(
     # Sensor position in grid units (shape (..., 1) or (..., K)), then the end points.
     gx = (x[..., 0:1] + xs * ct - ys * st - ox) / res
     gy = (x[..., 1:2] + ys * ct + xs * st - oy) / res
-    zr = z / res
+    zr = np.minimum(z, p.max_range) / res  # readings at max range are skipped: no overflow
     # ex = gx + zr (ct ca - st sa), ey = gy + zr (st ca + ct sa), computed into two buffers of
     # the batch's shape (the same operations in the same order: the same numbers, fewer
     # temporaries; an MCL step evaluates this for 10,000 particles x 60 beams).
@@ -1067,4 +1186,4 @@ def likelihood_field_range_finder_model(
     lp = table.ravel().take(i)
     hit = z < p.max_range
     lp = (lp if hit.all() else np.where(hit, lp, 0.0)).sum(axis=-1)
-    return check.scalar_or_array(lp if log else np.exp(lp))
+    return check.scalar_or_array(lp if log else _likelihood(lp, p, z=z, x=x))

@@ -64,7 +64,7 @@ class Step:
 
 @dataclass(frozen=True)
 class SimRun:
-    """A simulated run.
+    """A simulated run (its arrays are its own, and read-only).
 
     Attributes
     ----------
@@ -124,9 +124,22 @@ def grid_landmarks(nx, ny, spacing, origin=(0.0, 0.0), signatures=None):
     if np.any(sp <= 0):
         raise ValueError(f"spacing must be > 0, got {spacing!r}")
     ox, oy = check.vectors(origin, "origin", 2, "x, y")
-    gx, gy = np.meshgrid(ox + sp[0] * np.arange(nx), oy + sp[1] * np.arange(ny))
-    xy = np.column_stack([gx.ravel(), gy.ravel()])
-    return np.column_stack([xy, _signatures(signatures, len(xy))])
+    with np.errstate(over="ignore"):
+        xs, ys = ox + sp[0] * np.arange(nx), oy + sp[1] * np.arange(ny)
+    check.no_overflow(xs, "the landmarks' x", nx=nx, spacing=sp, origin=(ox, oy))
+    check.no_overflow(ys, "the landmarks' y", ny=ny, spacing=sp, origin=(ox, oy))
+    given = None if signatures is None else _signatures(signatures, nx * ny)
+    # written in place, row by row of the grid: no (ny, nx) temporaries beside the result
+    m = np.empty((nx * ny, 3))
+    grid = m.reshape(ny, nx, 3)
+    grid[:, :, 0] = xs
+    grid[:, :, 1] = ys[:, None]
+    if given is None:
+        grid[:, :, 2] = np.arange(nx, dtype=float)
+        grid[:, :, 2] += (nx * np.arange(ny, dtype=float))[:, None]
+    else:
+        m[:, 2] = given
+    return m
 
 
 def random_landmarks(n, bounds, *, min_distance=0.0, rng=None, signatures=None):
@@ -192,11 +205,21 @@ def loop_controls(T, dt, v=0.5, radius=4.0, *, wiggle=0.0, period=None):
         raise ValueError(f"radius must be a non-zero number (inf: straight), got {radius!r}")
     if period is not None:
         period = check.positive_scalar(period, "period")
-    t = dt * np.arange(T)
-    w = np.full(T, 0.0 if np.isinf(radius) else v / radius)
+    with np.errstate(over="ignore"):
+        t = dt * np.arange(T)
+        turn = 0.0 if np.isinf(radius) else v / radius
+    check.no_overflow(t, "the time dt * T", dt=dt, T=T)
+    check.no_overflow(turn, "the turn rate v / radius", v=v, radius=radius)
+    w = np.full(T, turn)
     if wiggle and T > 0:
-        period = period if period is not None else T * dt / 4
-        w = w + wiggle * np.sin(2 * np.pi * t / period)
+        period = period if period is not None else dt * (T / 4)
+        with np.errstate(over="ignore"):
+            phase = 2 * np.pi * t / period
+        if not np.all(phase < 2.0**52):  # the phase would be lost: its exact remainder
+            phase = 2 * np.pi * (np.fmod(t, period) / period)
+        with np.errstate(over="ignore"):
+            w = w + wiggle * np.sin(phase)
+        check.no_overflow(w, "the turn rate", v=v, radius=radius, wiggle=wiggle)
     return np.column_stack([np.full(T, float(v)), w])
 
 
@@ -273,24 +296,35 @@ def simulate_run(
     # Every step drawn at once from the robot's own frame (the sampler at the origin,
     # heading 0), then chained: the motion is rotation- and translation-equivariant and,
     # with γ = 0, turns the heading by ω̂Δt whatever the start pose.
+    with np.errstate(over="ignore"):
+        t = dt * np.arange(T + 1)
+    check.no_overflow(t, "the time dt * T", dt=dt, controls=controls)
     local = sample_motion_model_velocity(
         controls, np.zeros(3), dt, alpha6, sample=_sample_exact_normal, rng=rng
     )
-    poses = _chain(x0, local)
-    odo = _chain(x0, velocity_motion(np.zeros(3), controls, dt))
+    with np.errstate(over="ignore", invalid="ignore"):
+        poses = _chain(x0, local)
+        odo = _chain(x0, velocity_motion(np.zeros(3), controls, dt))
+    check.no_overflow(poses, "the true path", x0=x0, controls=controls, dt=dt)
+    check.no_overflow(odo, "the dead-reckoned path", x0=x0, controls=controls, dt=dt)
 
     truth = landmark_measurement(poses[1:, None, :], m[None, :, :])  # (T, L, 3)
     visible = (truth[..., 0] <= max_range) & (np.abs(truth[..., 1]) <= fov)
-    noise = rng.standard_normal(truth.shape) * sig
-    z = truth + noise
+    with np.errstate(over="ignore"):
+        noise = rng.standard_normal(truth.shape) * sig
+        z = truth + noise
+    check.no_overflow(z, "the noisy measurements", sigmas=sig, m=m, x0=x0)
     z[..., 1] = wrap_angle(z[..., 1])
     z[..., 0] = np.abs(z[..., 0])
-    t = dt * np.arange(T + 1)
     steps = []
     for k in range(T):
         idx = np.flatnonzero(visible[k])
         steps.append(Step(t=float(t[k + 1]), dt=dt, u=controls[k].copy(), z=z[k, idx], c=idx))
-    return SimRun(t=t, poses=poses, commanded=controls, odometry=odo, steps=steps, landmarks=m)
+    # the run's own arrays: not the caller's controls and m, and read-only like a recording's
+    fields = dict(t=t, poses=poses, commanded=controls.copy(), odometry=odo, landmarks=m.copy())
+    for arr in fields.values():
+        arr.flags.writeable = False
+    return SimRun(**fields, steps=steps)
 
 
 def _chain(x0: np.ndarray, local: np.ndarray) -> np.ndarray:

@@ -253,6 +253,14 @@ def _first_frame_size(page: str) -> tuple[int, int]:
     return int.from_bytes(header[16:20], "big"), int.from_bytes(header[20:24], "big")
 
 
+def _figsize(figsize) -> tuple[float, float]:
+    """A figure size: (width, height), two positive numbers of inches."""
+    size = check.finite(figsize, "figsize")
+    if size.shape != (2,) or np.any(size <= 0):
+        raise ValueError(f"figsize must be (width, height) > 0 in inches, got {figsize!r}")
+    return float(size[0]), float(size[1])
+
+
 def parameter_player(
     draw,
     values,
@@ -331,6 +339,8 @@ def parameter_player(
     if not isinstance(label, str) or not label:
         raise ValueError(f"label must be a non-empty string, got {label!r}")
     dpi = BOOK_DPI if dpi is None else check.positive_scalar(dpi, "dpi")
+    interval = check.positive_scalar(interval, "interval")
+    figsize = _figsize(figsize)
     fixed_axes = check.flag(fixed_axes, "fixed_axes")
     if fixed_axes and (xlim is None or ylim is None):
         auto_x, auto_y = _player_limits(draw, values, figsize, dpi)
@@ -442,6 +452,8 @@ def alpha_player(
     -------
     player : IPython.display.HTML
     """
+    n_samples = check.count(n_samples, "n_samples", 1)
+    interval = check.positive_scalar(interval, "interval")
     alpha = check.finite(alpha, "alpha")
     if alpha.ndim != 1 or np.any(alpha < 0):
         raise ValueError(f"alpha must be non-negative noise parameters, got {alpha.tolist()}")

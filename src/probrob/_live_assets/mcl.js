@@ -125,55 +125,76 @@ function lowVarianceSampler(w, n, m, offset, out) {
   return out;
 }
 
-// probrob.mcl.estimate_pose of n equally weighted particles: the (x, y) bins of side `radius`;
-// the block of 3 x 3 bins that holds the most particles seeds the cluster (ties: the smallest
-// centre bin in (x, y) order, numpy.unique's); then the mean of the particles within 2·radius
-// of the block's mean, θ by circular mean
-function estimatePose(x, n, radius) {
+// probrob.mcl.estimate_pose of n equally weighted particles: bins of side `radius` in (x, y)
+// and `nTheta` equal heading sectors that wrap at ±π; the block of 3 x 3 x 3 bins that holds
+// the most particles seeds the cluster (ties: the smallest centre bin in (x, y, θ) order,
+// numpy.unique's); then the mean of the particles within 2·radius of the block's mean in x
+// and y and within two sectors of its circular mean heading, θ by circular mean
+function estimatePose(x, n, radius, nTheta) {
   const counts = new Map();
   const bx = new Float64Array(n);
   const by = new Float64Array(n);
+  const bt = new Int32Array(n);
+  const th = new Float64Array(n);
+  const sector = TWO_PI / nTheta;
   for (let i = 0; i < n; i++) {
     bx[i] = Math.floor(x[3 * i] / radius);
     by[i] = Math.floor(x[3 * i + 1] / radius);
-    const key = bx[i] + "," + by[i];
+    th[i] = wrapAngle(x[3 * i + 2]);
+    bt[i] = Math.min(Math.floor((th[i] + Math.PI) / sector), nTheta - 1);
+    const key = bx[i] + "," + by[i] + "," + bt[i];
     counts.set(key, (counts.get(key) || 0) + 1);
   }
   let best = null;
   for (const key of counts.keys()) {
-    const [kx, ky] = key.split(",").map(Number);
+    const [kx, ky, kt] = key.split(",").map(Number);
     let c = 0;
     for (let di = -1; di <= 1; di++) {
-      for (let dj = -1; dj <= 1; dj++) c += counts.get(kx + di + "," + (ky + dj)) || 0;
+      for (let dj = -1; dj <= 1; dj++) {
+        for (let dk = -1; dk <= 1; dk++) {
+          const t = (((kt + dk) % nTheta) + nTheta) % nTheta;
+          c += counts.get(kx + di + "," + (ky + dj) + "," + t) || 0;
+        }
+      }
     }
-    if (best === null || c > best.c || (c === best.c && (kx < best.kx || (kx === best.kx && ky < best.ky)))) {
-      best = { c, kx, ky };
-    }
+    const before = (a) =>
+      kx < a.kx || (kx === a.kx && (ky < a.ky || (ky === a.ky && kt < a.kt)));
+    if (best === null || c > best.c || (c === best.c && before(best))) best = { c, kx, ky, kt };
   }
   const wgt = 1 / n;
   let sx = 0;
   let sy = 0;
+  let ss = 0;
+  let sc = 0;
   let sw = 0;
   for (let i = 0; i < n; i++) {
-    if (Math.abs(bx[i] - best.kx) <= 1 && Math.abs(by[i] - best.ky) <= 1) {
+    const dt = (((bt[i] - best.kt + 1) % nTheta) + nTheta) % nTheta;
+    if (Math.abs(bx[i] - best.kx) <= 1 && Math.abs(by[i] - best.ky) <= 1 && dt <= 2) {
       sx += x[3 * i] * wgt;
       sy += x[3 * i + 1] * wgt;
+      ss += wgt * Math.sin(th[i]);
+      sc += wgt * Math.cos(th[i]);
       sw += wgt;
     }
   }
   const cx = sx / sw;
   const cy = sy / sw;
+  const heading = Math.atan2(ss, sc);
   let ax = 0;
   let ay = 0;
   let as = 0;
   let ac = 0;
   let fraction = 0;
   for (let i = 0; i < n; i++) {
-    if (Math.abs(x[3 * i] - cx) <= 2 * radius && Math.abs(x[3 * i + 1] - cy) <= 2 * radius) {
+    if (
+      Math.abs(x[3 * i] - cx) <= 2 * radius &&
+      Math.abs(x[3 * i + 1] - cy) <= 2 * radius &&
+      Math.abs(angleDiff(th[i], heading)) <= 2 * sector
+    ) {
       ax += x[3 * i] * wgt;
       ay += x[3 * i + 1] * wgt;
-      as += wgt * Math.sin(x[3 * i + 2]);
-      ac += wgt * Math.cos(x[3 * i + 2]);
+      as += wgt * Math.sin(th[i]);
+      ac += wgt * Math.cos(th[i]);
       fraction += wgt;
     }
   }
@@ -372,7 +393,7 @@ function mountParticleFilter(root, config) {
       run.sets.push(s.x);
       run.logW.push(s.logW);
     }
-    if (!run.estimates[t]) run.estimates[t] = estimatePose(run.sets[t], run.p.n, C.radius);
+    if (!run.estimates[t]) run.estimates[t] = estimatePose(run.sets[t], run.p.n, C.radius, C.headingBins);
     return run.estimates[t];
   }
   function error(est, t) {

@@ -27,6 +27,8 @@ from probrob.kinematics import (
     diff_drive_odometry,
 )
 
+from . import agrees, more_digits, not_a_number
+
 __all__ = ["exercise_1", "exercise_2", "exercise_3", "exercise_4"]
 
 WHEELS = 0.4
@@ -51,22 +53,23 @@ EX4_U = (0.6, 0.3)
 
 
 def _vector(answer, n, what):
+    problem = not_a_number(answer)
+    if problem:
+        return None, f"{what}: {problem}"
     value = np.asarray(answer, dtype=float)
     if value.shape != (n,):
         return None, f"{what}: expected {n} numbers, got shape {value.shape}"
-    if not np.all(np.isfinite(value)):
-        return None, f"{what} contains NaN or infinity"
     return value, None
 
 
 def _number(answer):
-    try:
-        value = float(answer)
-    except (TypeError, ValueError):
-        return None, f"expected one number, got {type(answer).__name__}"
-    if not np.isfinite(value):
-        return None, "the answer is NaN or infinite"
-    return value, None
+    problem = not_a_number(answer)
+    if problem:
+        return None, problem
+    value = np.asarray(answer, dtype=float)
+    if value.shape != ():
+        return None, f"expected one number, got shape {value.shape}"
+    return float(value), None
 
 
 def _cir_in_robot_frame(u):
@@ -94,6 +97,13 @@ def exercise_1(answer):
         return "with this s_dx the robot's position still moves: a spin leaves it in place"
     if abs(end[2] - start[2]) < 1e-12:
         return "with this s_dx the robot does not turn at all"
+    r, _ = cir_radius_angle([EX1_S_SX, s_dx], WHEELS)
+    if not abs(r + WHEELS / 2) <= 1e-9:
+        return (
+            "with this s_dx the robot is back where it started only after a whole loop "
+            "(α a multiple of 2π) around a point off the axle: a spin turns it on the spot, "
+            "its position never moving"
+        )
     cir, problem = _vector(cir, 2, "the CIR")
     if problem:
         return problem
@@ -114,15 +124,19 @@ def exercise_2(answer):
         return problem
     ds, dphi, _ = diff_drive_odometry(*EX2_U, WHEELS)
     truth = arc_update(np.array(EX2_BOOK_POSE), ds, dphi)
-    if np.allclose(value, truth, rtol=0, atol=1e-9):
+    tol = {"rtol": 0.0, "atol": 1e-9}
+    if np.allclose(value, truth, **tol):
         return None
-    if np.allclose(value, truth * FLIP, rtol=0, atol=1e-9):
+    if agrees(value, truth * FLIP, **tol):
         return "this is the book's pose in the report's convention: flip the heading back"
-    if np.allclose(value, cir_state_function(EX2_BOOK_POSE, EX2_U, WHEELS), rtol=0, atol=1e-9):
+    if agrees(value, cir_state_function(EX2_BOOK_POSE, EX2_U, WHEELS), **tol):
         return "the report's f was fed the book's pose as it is: map it with M first (erratum C1)"
-    if np.allclose(value[:2], truth[:2], rtol=0, atol=1e-9):
+    short = more_digits(value, truth, **tol)
+    if short:
+        return short
+    if agrees(value[:2], truth[:2], **tol):
         return "the position is right, the heading is not"
-    if np.allclose(value[2], truth[2], rtol=0, atol=1e-9):
+    if agrees(value[2], truth[2], **tol):
         return "the heading is right, the position is not"
     return "neither the position nor the heading is the one the book's model reaches"
 
@@ -137,15 +151,15 @@ def exercise_3(answer):
     _, W = cir_state_jacobians(np.zeros(3), EX3_U, WHEELS)
     Q = np.diag(EX3_K * np.abs(EX3_U))
     truth = float((W @ Q @ W.T)[2, 2])
-    if np.isclose(value, np.sqrt(truth), rtol=1e-6):
+    if np.isclose(value, truth, rtol=1e-6, atol=0):
+        return None
+    if agrees(value, np.sqrt(truth)):
         return "that is a standard deviation: the question asks for the variance"
-    if np.isclose(value, truth / 2, rtol=1e-6):
+    if agrees(value, truth / 2):
         return "both wheels' errors turn the robot, not only one"
-    if np.isclose(value, truth * (180 / np.pi) ** 2, rtol=1e-6):
+    if agrees(value, truth * (180 / np.pi) ** 2):
         return "give the variance in rad², not deg²"
-    if not np.isclose(value, truth, rtol=1e-6, atol=0):
-        return "too large" if value > truth else "too small"
-    return None
+    return more_digits(value, truth, rtol=1e-6) or ("too large" if value > truth else "too small")
 
 
 def exercise_4(answer):
@@ -156,12 +170,15 @@ def exercise_4(answer):
         return problem
     frame = cir_pose_matrix(np.array(EX4_POSE))
     truth = (frame @ [*_cir_in_robot_frame(EX4_U), 1.0])[:2]
-    if np.allclose(value, truth, rtol=0, atol=1e-9):
+    tol = {"rtol": 0.0, "atol": 1e-9}
+    if np.allclose(value, truth, **tol):
         return None
     book_frame = cir_pose_matrix(np.array(EX4_POSE) * FLIP)  # the usual R(θ): erratum C1
-    if np.allclose(value, (book_frame @ [*_cir_in_robot_frame(EX4_U), 1.0])[:2], atol=1e-9):
+    if agrees(value, (book_frame @ [*_cir_in_robot_frame(EX4_U), 1.0])[:2], **tol):
         return "the report's rotation matrix is the transpose of the usual one (erratum C1)"
     r, _ = cir_radius_angle(EX4_U, WHEELS)
-    if np.allclose(value, (frame @ [0.0, -r, 1.0])[:2], atol=1e-9):
+    if agrees(value, (frame @ [0.0, -r, 1.0])[:2], **tol):
         return "r is measured from the right wheel, not from the middle of the axle"
-    return "this point is not the centre that both wheels circle"
+    return (
+        more_digits(value, truth, **tol) or "this point is not the centre that both wheels circle"
+    )

@@ -12,18 +12,25 @@ from scipy.stats import norm
 
 from ..mcl import kld_sample_size
 from ..motion import odometry_deltas
+from . import agrees, more_digits, not_a_number
 
 
 def _number(answer, what="a number"):
+    """``(value, None)`` for one real finite number, else ``(None, what is wrong)``."""
+    problem = not_a_number(answer)
+    if problem:
+        return None, problem
     value = np.asarray(answer, dtype=float)
     if value.shape != ():
-        raise TypeError(f"expected {what}")
-    return float(value)
+        return None, f"expected {what}, got shape {value.shape}"
+    return float(value), None
 
 
 def exercise_1(answer) -> str | None:
     """k = 40, ε = 0.05, δ = 0.01: the KLD bound of Table 8.4, rounded up."""
-    got = _number(answer, "one integer")
+    got, problem = _number(answer, "one integer")
+    if problem:
+        return problem
     want = kld_sample_size(40, 0.05, 0.01)
     if got == want:
         return None
@@ -36,6 +43,9 @@ def exercise_1(answer) -> str | None:
 
 def exercise_2(answer) -> str | None:
     """Weights (0.05, 0.42, 0.18, 0.35), M = 10: the floor and ceiling of M·w."""
+    problem = not_a_number(answer)
+    if problem:
+        return problem
     try:
         low, high = (np.asarray(part, dtype=float) for part in answer)
     except (TypeError, ValueError):
@@ -54,45 +64,55 @@ def exercise_2(answer) -> str | None:
 
 def exercise_3(answer) -> str | None:
     """w_slow = 2e-4, w_fast = 1.5e-4: max(0, 1 - w_fast/w_slow)."""
-    got = _number(answer, "one probability")
+    got, problem = _number(answer, "one probability")
+    if problem:
+        return problem
     want = max(0.0, 1.0 - 1.5e-4 / 2.0e-4)
     if not 0.0 <= got <= 1.0:
         return "a probability lies between 0 and 1"
-    if abs(got - (1.0 - 2.0e-4 / 1.5e-4)) < 1e-9 or abs(got - 1.5e-4 / 2.0e-4) < 1e-9:
+    if np.isclose(got, want, rtol=1e-3, atol=0.0):
+        return None
+    if agrees(got, 1.0 - 2.0e-4 / 1.5e-4) or agrees(got, 1.5e-4 / 2.0e-4):
         return "not line 14 of Table 8.3: check which average is on top, and the 1 - ..."
-    if abs(got - want) > 1e-3 * want:
-        return "not the probability of line 14 of Table 8.3"
-    return None
+    return more_digits(got, want, rtol=1e-3) or "not the probability of line 14 of Table 8.3"
 
 
 def exercise_4(answer) -> str | None:
     """Weights (1, 1, 1, 5): N_eff = 1 / Σ w̃² of the normalised weights."""
-    got = _number(answer)
+    got, problem = _number(answer)
+    if problem:
+        return problem
     w = np.array([1.0, 1.0, 1.0, 5.0])
     want = 1.0 / np.sum((w / w.sum()) ** 2)
-    if abs(got - 1.0 / np.sum(w**2)) < 1e-9:
+    if np.isclose(got, want, rtol=1e-3, atol=0.0):
+        return None
+    if agrees(got, 1.0 / np.sum(w**2)):
         return "normalise the weights first"
-    if abs(got - 4.0) < 1e-9:
+    if got == 4.0:
         return "the weights are not equal: N_eff is less than N"
-    if abs(got - want) > 1e-3 * want:
-        return "N_eff = 1 / Σ w̃ᵢ² with w̃ the normalised weights"
-    return None
+    return more_digits(got, want, rtol=1e-3) or "N_eff = 1 / Σ w̃ᵢ² with w̃ the normalised weights"
 
 
 def exercise_5(answer) -> str | None:
     """Odometry (0, 0, 0) → (−0.004, 0.001, 0.5), α1 = 0.1, α2 = 0: (book σ, amcl σ) of δrot1."""
+    problem = not_a_number(answer)
+    if problem:
+        return problem
     try:
         book, amcl = (float(np.asarray(a, dtype=float)) for a in answer)
     except (TypeError, ValueError):
         return "answer with two numbers: (book, amcl)"
     r1, _, _ = odometry_deltas(np.array([0.0, 0.0, 0.0]), np.array([-0.004, 0.001, 0.5]))
     want = float(np.sqrt(0.1) * abs(r1))
-    if abs(book - 0.1 * float(r1) ** 2) < 1e-9:
-        return "the book's term is a variance; the standard deviation is its square root"
-    if abs(book - np.sqrt(0.1) * 0.5) < 1e-9:
-        return "δrot1 is the direction of the translation, not the turn"
-    if abs(book - want) > 1e-3 * want:
-        return "the book's value is not right: compute δrot1 with odometry_deltas"
+    if not np.isclose(book, want, rtol=1e-3, atol=0.0):
+        if agrees(book, 0.1 * float(r1) ** 2):
+            return "the book's term is a variance; the standard deviation is its square root"
+        if agrees(book, np.sqrt(0.1) * 0.5):
+            return "δrot1 is the direction of the translation, not the turn"
+        return (
+            more_digits(book, want, rtol=1e-3)
+            or "the book's value is not right: compute δrot1 with odometry_deltas"
+        )
     if amcl != 0.0:
         return "amcl's value is not right: what does amcl do below 1 cm of translation?"
     return None

@@ -30,6 +30,7 @@ from ..motion import (
     motion_model_velocity,
     odometry_deltas,
 )
+from . import agrees, more_digits, not_a_number
 
 __all__ = ["EXERCISE_1", "exercise_1", "exercise_2", "exercise_3", "exercise_4"]
 
@@ -45,19 +46,32 @@ EXERCISE_1 = {
 
 def _numbers(answer, n: int, what: str):
     """The answer as ``n`` finite floats, or a message saying why it is not."""
+    problem = not_a_number(answer)
+    if problem:
+        return None, f"{problem}; {what}"
     try:
         got = np.asarray(answer, dtype=float)
     except (TypeError, ValueError):
         return None, f"expected {what}"
     if got.shape != ((n,) if n > 1 else ()):
         return None, f"expected {what}, got shape {got.shape}"
-    if not np.all(np.isfinite(got)):
-        return None, "the answer contains NaN or infinity"
     return got, None
 
 
 def _close(got, want, rtol=1e-4) -> bool:
     return bool(np.allclose(got, want, rtol=rtol, atol=0.0))
+
+
+def _like(got, want, rtol=1e-4) -> bool:
+    """``got`` is ``want``, to the tolerance or to the digits it shows (a typed slip)."""
+    return agrees(got, want, rtol=rtol)
+
+
+def _off(names) -> str:
+    """ "σ_v is off", "the first and the second are off", "σ_v, σ_ω and σ_γ are off"."""
+    names = list(names)
+    listed = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+    return f"{listed} {'is' if len(names) == 1 else 'are'} off"
 
 
 def exercise_1(answer, *, alpha) -> str | None:
@@ -78,9 +92,12 @@ def exercise_1(answer, *, alpha) -> str | None:
     want = p[1] / p[0]
     if _close(got, want):
         return None
-    if _close(got, 1 / want):
+    short = more_digits(got, want, rtol=1e-4)
+    if short:
+        return short
+    if _like(got, 1 / want):
         return "that is p(x_a) / p(x_b): the ratio asked for has x_b on top"
-    if _close(got, np.log(want)):
+    if _like(got, np.log(want)):
         return "that is the log of the ratio; give the ratio itself"
     if got >= 1:
         return "x_b needs a final turn γ̂ that x_a does not: its density is lower"
@@ -105,13 +122,16 @@ def exercise_2(answer, *, x_prev, x_t, odometry, alpha) -> str | None:
     )
     if _close(got, want):
         return None
-    if _close(got, want[::-1]):
+    short = more_digits(got, want, rtol=1e-4)
+    if short:
+        return short
+    if _like(got, want[::-1]):
         return "the two are swapped: Table 5.5 uses the hypothesis' δ̂, Table 5.6 the odometry's δ"
-    if _close(got, np.sqrt(want)):
+    if _like(got, np.sqrt(want)):
         return "those are standard deviations; the table's second argument is a variance"
     wrong = [k for k in range(2) if not _close(got[k], want[k])]
     names = ("the first (at δ̂, from x_prev to x_t)", "the second (at δ, from the odometry)")
-    return " and ".join(names[k] for k in wrong) + " is off"
+    return _off(names[k] for k in wrong)
 
 
 def exercise_3(answer, *, train, test) -> str | None:
@@ -121,13 +141,13 @@ def exercise_3(answer, *, train, test) -> str | None:
     swapped fit (variance form, ``density="pose"``), and how it compares with the fit on
     ``train`` scored on ``test``. ``train, test``: :class:`~probrob.fitting.MotionWindows`.
     """
-    if not isinstance(answer, tuple) or len(answer) != 2:
+    if not isinstance(answer, tuple | list) or len(answer) != 2:
         return 'expected a pair: (mean log-likelihood, "higher" or "lower")'
     score, word = answer
     got, problem = _numbers(score, 1, "a number as the first part")
     if problem:
         return problem
-    if word not in ("higher", "lower"):
+    if not isinstance(word, str) or word not in ("higher", "lower"):
         return 'the second part must be "higher" or "lower"'
 
     def held_out(fit_on, score_on):
@@ -141,9 +161,12 @@ def exercise_3(answer, *, train, test) -> str | None:
     original, _ = held_out(train, test)
     problems = []
     if not _close(got, swapped, rtol=1e-6):
-        if _close(got, in_sample, rtol=1e-6):
+        short = more_digits(got, swapped, rtol=1e-6)
+        if short:
+            problems.append(f"the score is {short}")
+        elif _like(got, in_sample, rtol=1e-6):
             problems.append("that score is on the windows the model was fitted to")
-        elif _close(got, original, rtol=1e-6):
+        elif _like(got, original, rtol=1e-6):
             problems.append("that is the original fit's score: fit on test, score on train")
         else:
             problems.append("the score is off (variance form, density='pose')")
@@ -165,12 +188,15 @@ def exercise_4(answer, *, alpha, v, w) -> str | None:
     want = np.sqrt(np.array(_velocity_controls(alpha, np.array([v, w]), "std")[2:], dtype=float))
     if _close(got, want):
         return None
-    if _close(got, want**2):
+    short = more_digits(got, want, rtol=1e-4)
+    if short:
+        return short
+    if _like(got, want**2):
         return "those are variances; give standard deviations"
     variance_form = np.sqrt(
         np.array(_velocity_controls(alpha, np.array([v, w]), "variance")[2:], dtype=float)
     )
-    if _close(got, variance_form):
+    if _like(got, variance_form):
         return "that is the variance form's formula; in the std form α1|v| + α2|ω| is σ itself"
     wrong = [name for k, name in enumerate(("σ_v", "σ_ω", "σ_γ")) if not _close(got[k], want[k])]
-    return ", ".join(wrong) + " off"
+    return _off(wrong)

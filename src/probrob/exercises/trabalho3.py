@@ -28,6 +28,8 @@ from probrob.motion import (
     velocity_motion,
 )
 
+from . import more_digits, not_a_number
+
 __all__ = [
     "exercise_1",
     "exercise_2",
@@ -65,13 +67,13 @@ def u_odom():
 
 
 def _number(answer):
-    try:
-        value = float(answer)
-    except (TypeError, ValueError):
-        return None, f"expected one number, got {type(answer).__name__}"
-    if not np.isfinite(value):
-        return None, "the answer is NaN or infinite"
-    return value, None
+    problem = not_a_number(answer)
+    if problem:
+        return None, problem
+    value = np.asarray(answer, dtype=float)
+    if value.shape != ():
+        return None, f"expected one number, got shape {value.shape}"
+    return float(value), None
 
 
 def exercise_1(w):
@@ -83,6 +85,11 @@ def exercise_1(w):
     if w <= 0:
         return "a half-width is positive"
     inside, outside = prob_triangular_distribution(np.array([0.999, 1.001]) * w, EX1_B2)
+    if outside > 0 or inside == 0:
+        # the check resolves w to 0.1 %: a half-width short of digits is told so
+        short = more_digits(w, np.sqrt(6 * EX1_B2), rtol=5e-4)
+        if short:
+            return short
     if outside > 0:
         return "the density is still positive just beyond w: the support is wider"
     if inside == 0:
@@ -183,6 +190,12 @@ def exercise_6(alpha1):
     )
     if np.allclose(ref, std, rtol=0, atol=1e-9):
         return None
+    v, w = U_VEL  # the samples agree to 1e-9 m when α1 does to about 1e-9 of itself
+    short = more_digits(
+        alpha1, np.sqrt(EX6_ALPHA_VAR[0] * v**2 + EX6_ALPHA_VAR[1] * w**2) / v, rtol=1e-9
+    )
+    if short:
+        return short
     end = velocity_motion(START, U_VEL, 1.0)
     spread_ref, spread_std = (np.abs(s - end).mean() for s in (ref, std))
     return f"the std form's cloud is {'wider' if spread_std > spread_ref else 'narrower'}"
@@ -191,6 +204,9 @@ def exercise_6(alpha1):
 def exercise_7(deltas):
     """The odometry's :math:`(\\delta_{rot1}, \\delta_{trans}, \\delta_{rot2})` between the
     two poses :data:`EX7_ODOMETRY` (Table 5.5, lines 2–4, wrapped: erratum O1)."""
+    problem = not_a_number(deltas)
+    if problem:
+        return f"{problem}; expected three numbers (δrot1, δtrans, δrot2)"
     try:
         value = np.asarray(deltas, dtype=float)
     except (TypeError, ValueError):
@@ -198,6 +214,10 @@ def exercise_7(deltas):
     if value.shape != (3,):
         return f"expected three numbers (δrot1, δtrans, δrot2), got shape {value.shape}"
     truth = np.array(odometry_deltas(*(np.array(p) for p in EX7_ODOMETRY)), dtype=float)
+    in_range = np.array([wrap_angle(value[0]), value[1], wrap_angle(value[2])])
+    short = more_digits(in_range, truth, rtol=0.0, atol=1e-9)
+    if short:
+        return short
     wrong = [
         name
         for name, ok in [
