@@ -642,3 +642,9 @@ def test_selective_mcl_in_a_run_resamples_on_some_steps_only():
         M.selective_mcl(x0, None, u[0], z[0], ROOM, ANGLES, ALPHA, PARAMS, threshold=1.5)
     with pytest.raises(ValueError, match="weights must have shape"):
         M.selective_mcl(x0, np.ones(3), u[0], z[0], ROOM, ANGLES, ALPHA, PARAMS)
+
+
+def test_low_variance_refuses_a_size_it_cannot_count():
+    # was a RuntimeWarning (an invalid cast) for size=10**20
+    with pytest.raises(ValueError, match="size must be at most"):
+        M.low_variance_sampler([0.5, 0.5], size=10**20)

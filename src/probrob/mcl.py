@@ -190,6 +190,8 @@ def low_variance_sampler(weights, size=None, rng=None, *, offset=None) -> np.nda
     """
     w = _weights(weights)
     m = w.size if size is None else check.count(size, "size", 1)
+    if m > 2**52:  # the pointer counts m * c are exact integers only below 2**53
+        raise ValueError(f"size must be at most 2**52 indices, got {m}")
     if offset is None:
         offset = check.rng(rng).uniform(0.0, 1.0)  # line 3: r = offset / M ~ U(0, 1/M)
     else:
