@@ -40,7 +40,7 @@ import numpy as np
 
 from .. import _validation
 
-__all__ = ["agrees", "check", "more_digits", "not_a_number", "verdict"]
+__all__ = ["agrees", "check", "more_digits", "not_a_number", "one_number", "verdict"]
 
 
 def _kinds(answer, depth: int = 0):
@@ -115,6 +115,28 @@ def not_a_number(answer) -> str | None:
         if kind != "number":
             return _NOT_A_NUMBER.get(kind, f"expected a number, got {kind}")
     return None
+
+
+def one_number(answer, what: str = "one number") -> tuple[float | None, str | None]:
+    """Return ``(value, None)`` if ``answer`` is one real finite number, else ``(None, why)``.
+
+    ``why`` is :func:`not_a_number`'s message, or ``"expected <what>, got shape ..."`` for an
+    array or a sequence of numbers.
+
+    Examples
+    --------
+    >>> one_number(2.5)
+    (2.5, None)
+    >>> one_number([1, 2], "one probability")
+    (None, 'expected one probability, got shape (2,)')
+    """
+    problem = not_a_number(answer)
+    if problem:
+        return None, problem
+    value = np.asarray(answer, dtype=float)
+    if value.shape != ():
+        return None, f"expected {what}, got shape {value.shape}"
+    return float(value), None
 
 
 def _last_digit(value: float) -> tuple[float, int]:

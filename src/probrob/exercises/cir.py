@@ -27,7 +27,7 @@ from probrob.kinematics import (
     diff_drive_odometry,
 )
 
-from . import agrees, more_digits, not_a_number
+from . import agrees, more_digits, not_a_number, one_number
 
 __all__ = ["exercise_1", "exercise_2", "exercise_3", "exercise_4"]
 
@@ -62,16 +62,6 @@ def _vector(answer, n, what):
     return value, None
 
 
-def _number(answer):
-    problem = not_a_number(answer)
-    if problem:
-        return None, problem
-    value = np.asarray(answer, dtype=float)
-    if value.shape != ():
-        return None, f"expected one number, got shape {value.shape}"
-    return float(value), None
-
-
 def _cir_in_robot_frame(u):
     """The CIR of one step in the robot's frame (x ahead, y to the left), eq. 6."""
     r, _ = cir_radius_angle(u, WHEELS)
@@ -88,7 +78,7 @@ def exercise_1(answer):
         s_dx, cir = answer
     except (TypeError, ValueError):
         return "give a pair: (s_dx, (cx, cy))"
-    s_dx, problem = _number(s_dx)
+    s_dx, problem = one_number(s_dx)
     if problem:
         return f"s_dx: {problem}"
     start = np.array([1.0, 2.0, 0.5])
@@ -145,7 +135,7 @@ def exercise_3(answer):
     """The variance of the heading after one straight step, rad², with the wheel noise
     :math:`Q = \\mathrm{diag}(k|s_{sx}|, k|s_{dx}|)`, :math:`k` = :data:`EX3_K`, from a
     perfectly known pose."""
-    value, problem = _number(answer)
+    value, problem = one_number(answer)
     if problem:
         return problem
     _, W = cir_state_jacobians(np.zeros(3), EX3_U, WHEELS)

@@ -12,18 +12,12 @@ from scipy.stats import norm
 
 from ..mcl import kld_sample_size
 from ..motion import odometry_deltas
-from . import agrees, more_digits, not_a_number
+from . import agrees, more_digits, not_a_number, one_number
 
 
 def _number(answer, what="a number"):
     """``(value, None)`` for one real finite number, else ``(None, what is wrong)``."""
-    problem = not_a_number(answer)
-    if problem:
-        return None, problem
-    value = np.asarray(answer, dtype=float)
-    if value.shape != ():
-        return None, f"expected {what}, got shape {value.shape}"
-    return float(value), None
+    return one_number(answer, what)
 
 
 def exercise_1(answer) -> str | None:

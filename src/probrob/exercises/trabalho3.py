@@ -28,7 +28,7 @@ from probrob.motion import (
     velocity_motion,
 )
 
-from . import more_digits, not_a_number
+from . import more_digits, not_a_number, one_number
 
 __all__ = [
     "exercise_1",
@@ -66,20 +66,10 @@ def u_odom():
     return np.stack([ODOM_START, apply_odometry_deltas(ODOM_START, *DELTAS)])
 
 
-def _number(answer):
-    problem = not_a_number(answer)
-    if problem:
-        return None, problem
-    value = np.asarray(answer, dtype=float)
-    if value.shape != ():
-        return None, f"expected one number, got shape {value.shape}"
-    return float(value), None
-
-
 def exercise_1(w):
     """The half-width ``w`` of the triangle's support for :math:`b^2` = :data:`EX1_B2`:
     the density is zero beyond it, positive inside, and holds mass 1 on [−w, w]."""
-    w, problem = _number(w)
+    w, problem = one_number(w)
     if problem:
         return problem
     if w <= 0:
@@ -102,7 +92,7 @@ def exercise_1(w):
 def exercise_2(n):
     """How many uniforms on (−b, b), summed and halved, have variance :math:`b^2`. Checked
     on 200 000 such sums with :math:`b = 1`."""
-    n, problem = _number(n)
+    n, problem = one_number(n)
     if problem:
         return problem
     if int(n) != n or n < 1:
@@ -142,7 +132,7 @@ def _share_within_10cm(alpha, n=20_000, rng=0):
 def exercise_4(alpha):
     """The :math:`\\alpha` of :math:`(\\alpha, \\alpha/10, \\alpha, \\alpha/10)` for which 95 %
     (±1 %) of 20 000 samples of Table 5.6 lie within 10 cm of the noise-free end position."""
-    alpha, problem = _number(alpha)
+    alpha, problem = one_number(alpha)
     if problem:
         return problem
     if alpha < 0:
@@ -165,7 +155,7 @@ def exercise_5(mass):
     """The probability that the velocity model's density (``density="xy"``) holds in the
     disc of radius 20 cm around the noise-free end position; compared (±0.01) with the share
     of 200 000 samples of Table 5.3 in the disc."""
-    mass, problem = _number(mass)
+    mass, problem = one_number(mass)
     if problem:
         return problem
     if not 0 <= mass <= 1:
@@ -178,7 +168,7 @@ def exercise_5(mass):
 def exercise_6(alpha1):
     """The :math:`\\alpha_1` of ``noise="std"`` (all other :math:`\\alpha` zero) that draws
     exactly the samples of ``noise="variance"`` with :data:`EX6_ALPHA_VAR` (same seed)."""
-    alpha1, problem = _number(alpha1)
+    alpha1, problem = one_number(alpha1)
     if problem:
         return problem
     if alpha1 < 0:
