@@ -136,7 +136,7 @@ nbval-fp: $(STAMP)
 	$(BIN)/python .ci/fp_features.py --check; \
 	start=$$SECONDS; \
 	$(NBVAL) notebooks/ tests/test_exercise_solutions.py; \
-	echo "nbval-fp: $$((SECONDS - start)) s with $$features disabled"
+	echo "nbval-fp: $$((SECONDS - start)) s with $${features:-nothing} disabled"
 
 format: $(STAMP)
 	$(BIN)/ruff format .
