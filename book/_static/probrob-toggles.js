@@ -31,10 +31,25 @@
   }
   // axe "label-content-name-mismatch": the colour-mode button is named "Color mode" but its
   // icons' titles ("Light", "Dark", "System Settings") read as its text: the icons are decoration.
+  // Font Awesome's deferred script replaces each <i> by an <svg> whose <title> carries the
+  // title, either before or after this script runs (a race): both forms are quietened, now and
+  // whenever the button's icons are replaced later.
+  function quietIcon(icon) {
+    icon.setAttribute("aria-hidden", "true");
+    icon.removeAttribute("title");
+    icon.removeAttribute("aria-labelledby");
+    icon.removeAttribute("role");
+    icon.querySelectorAll("title").forEach(function (t) {
+      t.remove();
+    });
+  }
   function quietThemeIcons() {
-    document.querySelectorAll(".theme-switch-button i.theme-switch").forEach(function (i) {
-      i.setAttribute("aria-hidden", "true");
-      i.removeAttribute("title");
+    document.querySelectorAll(".theme-switch-button").forEach(function (button) {
+      const quiet = function () {
+        button.querySelectorAll(".theme-switch").forEach(quietIcon);
+      };
+      quiet();
+      new MutationObserver(quiet).observe(button, {childList: true, subtree: true});
     });
   }
   // axe "label-content-name-mismatch": myst-nb's hidden-cell <summary> is named "Toggle hidden
