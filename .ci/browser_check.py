@@ -8,7 +8,8 @@ data-theme>`` must then be that mode). In every view it checks that
   * MathJax typeset the math (``mjx-container`` elements, no ``mjx-merror``, and no raw ``$$``,
     ``\\(`` or ``\\[`` left in the visible text outside code blocks) and the images load;
   * the page is not wider than the viewport (the widest offending elements are named);
-  * no paragraph starts with ``|`` (a Markdown table the parser did not recognise);
+  * no paragraph starts with ``|`` (a Markdown table the parser did not recognise), and no
+    cell's printout is cut into several boxes (two stream outputs side by side);
   * no display equation is wider than the text column at 1280 px (its TeX is reported; on a
     phone an equation may scroll in its own box, but must not widen the page);
   * every ``<img>`` in the article has an ``alt`` text and no ``alt`` is a file name or path;
@@ -250,6 +251,13 @@ JS_LAYOUT = r"""
     .filter((p) => (p.innerText || p.textContent || "").trim().startsWith("|"))
     .map((p) => snip(p.innerText || p.textContent, 90));
 
+  // (b') a cell's printout cut into boxes: two stream outputs side by side in one cell output
+  // (myst-nb shows each stream output of the notebook in its own box unless nb_merge_streams)
+  const splitStreams = Array.from(document.querySelectorAll(".cell_output"))
+    .filter((o) => Array.from(o.children).some((c, k, all) => k > 0
+      && c.matches(".output.stream") && all[k - 1].matches(".output.stream")))
+    .map((o) => snip(o.innerText || o.textContent, 90));
+
   // (c) display equations: the typeset width against the column; the TeX source for the report
   const tex = new Map();
   try {
@@ -303,6 +311,7 @@ JS_LAYOUT = r"""
   });
   return {column: Math.round(column * 10) / 10, pageWidth: pageWidth,
           innerWidth: window.innerWidth, wide: wide, rawTables: rawTables,
+          splitStreams: splitStreams,
           equations: equations, noAlt: noAlt, fileNameAlt: fileNameAlt, canvases: canvases,
           players: players, images: document.images.length,
           theme: document.documentElement.dataset.theme || "",
@@ -791,6 +800,9 @@ def check_layout(lay: dict, view: View, f: Findings, stats: dict) -> None:
     stats["raw_tables"] = len(lay["rawTables"])
     for t in lay["rawTables"]:
         f.add("raw-table", f"a paragraph starts with '|' (a table not parsed): {t!r}")
+    # (b') one printout, one box
+    for t in lay["splitStreams"]:
+        f.add("split-stream", f"a cell's printout is cut into several boxes: {t!r}")
     # (c) display equations: not wider than the column at the desktop width; on a phone one
     # may scroll in its own box (the page width check above catches one that widens the page)
     eqs = lay["equations"]
@@ -1033,6 +1045,7 @@ FIXTURE = ROOT / ".ci" / "fixtures" / "browser" / "defects.html"
 PLANTED = [
     ("page-width", "code.planted-wide"),
     ("raw-table", "| a | b |"),
+    ("split-stream", "planted first line"),
     ("equation-width", "\\text{planted too-wide equation}"),
     ("alt-text", "'../_images/x.png'"),
     ("alt-text", "images without alt text"),
