@@ -113,6 +113,7 @@ def layout(**over):
         "innerWidth": 1280,
         "wide": [],
         "rawTables": [],
+        "splitStreams": [],
         "equations": [],
         "noAlt": [],
         "fileNameAlt": [],
@@ -147,6 +148,7 @@ def test_layout_rules_of_the_browser_check():
     )
     assert classes_of(bc, layout(equations=[eq | {"width": 623.5}]), desk) == []
     assert classes_of(bc, layout(rawTables=["| a | b |"]), desk) == ["raw-table"]
+    assert classes_of(bc, layout(splitStreams=["x = 1 | y = 2"]), desk) == ["split-stream"]
     assert classes_of(bc, layout(fileNameAlt=["../_images/a.png"]), desk) == ["alt-text"]
     canvas = {
         "id": "w",
