@@ -687,7 +687,8 @@ def _hybrid_step(code, free, h, w, ray, t, i, j, t_max):
 
 
 # Rays traced in lockstep by _cast_hybrid: one ray's step waits on a table look-up, and the
-# steps of a block's independent rays overlap in the CPU (1.8x faster than ray by ray).
+# steps of a block's independent rays overlap in the CPU (measured: sphere tracing 1.8x, the
+# whole traversal 1.25x faster than ray after ray).
 _BLOCK = 16
 
 
