@@ -44,6 +44,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.lapack import dposv as _dposv
 
 from . import _validation as check
 from .angles import _wrap
@@ -85,7 +86,7 @@ class _NonFinite(ValueError):
 
 
 def _finite_or_raise(what: str, *arrays) -> None:
-    if not all(np.isfinite(a).all() for a in arrays):
+    if not all(map(check.all_finite, arrays)):
         raise _NonFinite(what)
 
 
@@ -107,7 +108,7 @@ def _motion_noise(alpha: np.ndarray, u: np.ndarray) -> np.ndarray:
     :math:`(\alpha_1 v^2 + \alpha_2 \omega^2,\ \alpha_3 v^2 + \alpha_4 \omega^2)` for
     ``u`` of shape (..., 2).
     """
-    return np.square(u) @ np.reshape(alpha, (2, 2)).T
+    return (u * u) @ alpha.reshape(2, 2).T
 
 
 def _innovation(z: np.ndarray, z_hat: np.ndarray) -> np.ndarray:
@@ -124,11 +125,35 @@ def _cholesky(S: np.ndarray, name: str = _S_NAME) -> np.ndarray:
     except np.linalg.LinAlgError:
         L = None
     if L is None or not np.all(np.isfinite(L)):
-        raise ValueError(
-            f"{name} is not positive definite (a covariance must be symmetric with "
-            "positive eigenvalues); check the scales of Sigma and sigmas"
-        )
+        raise _not_positive_definite(name)
     return L
+
+
+def _not_positive_definite(name: str) -> ValueError:
+    return ValueError(
+        f"{name} is not positive definite (a covariance must be symmetric with "
+        "positive eigenvalues); check the scales of Sigma and sigmas"
+    )
+
+
+@functools.cache
+def _identity(n: int) -> np.ndarray:
+    eye = np.eye(n)
+    eye.setflags(write=False)
+    return eye
+
+
+def _inverse(S: np.ndarray, name: str = _S_NAME):
+    r""":math:`S^{-1}` and :math:`\log\det S` of one positive-definite ``S`` (n, n).
+
+    One Cholesky factorisation :math:`S = LL^T` and the solution of :math:`SX = I` with it
+    (LAPACK ``dposv``, one call: ``np.linalg`` on a 2×2 or 3×3 matrix costs more in its
+    checks than in the arithmetic), or ``ValueError`` naming ``name``.
+    """
+    L, S_inv, info = _dposv(S, _identity(S.shape[0]), lower=1)
+    if info != 0 or not check.all_finite(S_inv):
+        raise _not_positive_definite(name)
+    return S_inv, 2.0 * sum(map(math.log, L.diagonal().tolist()))
 
 
 def _log_normal(nu: np.ndarray, L: np.ndarray):
@@ -153,7 +178,7 @@ def _finish(mu: np.ndarray, Sigma: np.ndarray):
     """Lines 19–20 (Tables 7.2, 7.3) and 15–16 (7.4): the heading wrapped, Σ symmetrised."""
     _finite_or_raise("the estimate", mu, Sigma)
     mu = mu.copy()
-    mu[2] = _wrap(float(mu[2]))
+    mu[2] = _wrap(mu.item(2))
     return mu, 0.5 * (Sigma + Sigma.T)
 
 
@@ -228,16 +253,17 @@ def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
     d = z.shape[1]
     Q = np.diag(sigmas[:d] ** 2)  # line 8
+    I = _identity(3)  # noqa: E741 (the table's I)
     log_p = 0.0
-    for z_i, j in zip(z, c, strict=True):  # lines 9-10
+    for z_i, j in zip(z, c.tolist(), strict=True):  # lines 9-10
         z_hat, H = _landmark_at(mu_bar, m[j], d)  # lines 11-13
         S = H @ Sigma_bar @ H.T + Q  # line 14
-        L = _cholesky(S)
-        K = Sigma_bar @ H.T @ np.linalg.inv(S)  # line 15
+        S_inv, log_det_S = _inverse(S)
+        K = Sigma_bar @ H.T @ S_inv  # line 15
         nu = _innovation(z_i, z_hat)
         mu_bar = mu_bar + K @ nu  # line 16
-        Sigma_bar = (np.eye(3) - K @ H) @ Sigma_bar  # line 17
-        log_p += float(_log_normal(nu, L)[1])  # line 21, one factor
+        Sigma_bar = (I - K @ H) @ Sigma_bar  # line 17
+        log_p -= 0.5 * (nu @ S_inv @ nu + log_det_S + d * _LOG_2PI)  # line 21, one factor
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 19-20
     return mu_t, Sigma_t, log_p
 
