@@ -112,6 +112,16 @@ def all_finite(arr: np.ndarray) -> bool:
     return finite_sum or bool(np.isfinite(arr).all())
 
 
+def _min(arr: np.ndarray):
+    """The smallest entry of a non-empty array (a Python loop for a few numbers)."""
+    return min(arr.ravel().tolist()) if arr.size <= _FEW else arr.min()
+
+
+def _max(arr: np.ndarray):
+    """The largest entry of a non-empty array (a Python loop for a few numbers)."""
+    return max(arr.ravel().tolist()) if arr.size <= _FEW else arr.max()
+
+
 def finite(value, name: str) -> np.ndarray:
     """Return a finite float array; NaN or ±inf raise ``ValueError`` naming ``name``."""
     arr = as_float_array(value, name)
@@ -161,7 +171,7 @@ def alphas(value, name: str, count: int) -> np.ndarray:
     arr = finite(value, name)
     if arr.shape != (count,):
         raise ValueError(f"{name} must hold {count} values (α1..α{count}), got shape {arr.shape}")
-    if (arr < 0).any():
+    if _min(arr) < 0:
         raise ValueError(f"{name} must be non-negative, got {arr.tolist()}")
     return arr
 
@@ -178,6 +188,8 @@ def positive_scalar(value, name: str) -> float:
 
 def real_scalar(value, name: str) -> float:
     """Return one finite float (a number or a 0-d array; ``[x]`` is not a scalar)."""
+    if type(value) is float and math.isfinite(value):  # the common case, fast
+        return value
     arr = finite(value, name)
     if arr.ndim != 0:
         raise ValueError(f"{name} must be a number, got shape {arr.shape}: {_short(value)}")
@@ -521,8 +533,9 @@ def covariance(value, name: str, sizes: tuple[int, ...] = (3,), *, stack: bool =
     if S.ndim < 2 or (S.ndim > 2 and not stack) or S.shape[-2] != n or n not in sizes:
         shapes = " or ".join(f"({'..., ' if stack else ''}{k}, {k})" for k in sizes)
         raise ValueError(f"{name} must have shape {shapes}, got {S.shape}")
-    ST = np.swapaxes(S, -1, -2)
-    if not (S == ST).all() and not np.all(np.abs(S - ST) <= 1e-12 + 1e-9 * np.abs(ST)):
+    ST = S.swapaxes(-1, -2)
+    exactly = S.tolist() == ST.tolist() if S.size <= _FEW else (S == ST).all()
+    if not exactly and not np.all(np.abs(S - ST) <= 1e-12 + 1e-9 * np.abs(ST)):
         where = tuple(int(k) for k in np.argwhere(np.abs(S - ST) > 1e-12 + 1e-9 * np.abs(ST))[0])
         *batch, i, j = where
         raise ValueError(
@@ -578,7 +591,7 @@ def features(value, name: str = "z") -> np.ndarray:
         raise ValueError(
             f"{name} must have shape (K, 3) (r, phi, s) or (K, 2) (r, phi), got {z.shape}"
         )
-    if (z[:, 0] < 0).any():
+    if _min(z[:, 0]) < 0:
         raise ValueError(f"{name}: ranges must be >= 0")
     return z
 
@@ -591,7 +604,8 @@ def landmark_indices(value, name: str, count: int, n_landmarks: int) -> np.ndarr
     arr = np.asarray(value)
     if arr.size == 0 and count == 0:
         return np.zeros(0, dtype=int)
-    arr = np.atleast_1d(arr)
+    if arr.ndim == 0:
+        arr = arr[None]
     integral = arr.dtype.kind in "iu" or (
         arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.round(arr))
     )
@@ -601,7 +615,7 @@ def landmark_indices(value, name: str, count: int, n_landmarks: int) -> np.ndarr
         raise ValueError(
             f"{name} must have shape ({count},), one landmark index per feature, got {arr.shape}"
         )
-    if (arr < 0).any() or (arr >= n_landmarks).any():
+    if _min(arr) < 0 or _max(arr) >= n_landmarks:
         raise ValueError(
             f"{name} must index the map's {n_landmarks} landmarks, got {arr.tolist()}"
         )
@@ -615,10 +629,10 @@ def sigmas(value, name: str, lengths: tuple[int, ...], *, positive: bool) -> np.
     by them), else ``>= 0`` (a density of zero noise is a point mass).
     """
     arr = finite(value, name)
-    if arr.shape not in tuple((k,) for k in lengths):
+    if arr.ndim != 1 or arr.shape[0] not in lengths:
         need = " or ".join(("(σ_r, σ_φ, σ_s)" if k == 3 else "(σ_r, σ_φ)") for k in lengths)
         raise ValueError(f"{name} must hold the standard deviations {need}, got shape {arr.shape}")
-    if (arr <= 0).any() if positive else (arr < 0).any():
+    if _min(arr) <= 0 if positive else _min(arr) < 0:
         bound = "> 0" if positive else ">= 0"
         raise ValueError(f"{name} are standard deviations and must be {bound}, got {arr.tolist()}")
     return arr

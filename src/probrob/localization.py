@@ -45,6 +45,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg.lapack import dposv as _dposv
+from scipy.linalg.lapack import dpotrf as _dpotrf
 
 from . import _validation as check
 from .angles import _wrap
@@ -108,7 +109,7 @@ def _motion_noise(alpha: np.ndarray, u: np.ndarray) -> np.ndarray:
     :math:`(\alpha_1 v^2 + \alpha_2 \omega^2,\ \alpha_3 v^2 + \alpha_4 \omega^2)` for
     ``u`` of shape (..., 2).
     """
-    return (u * u) @ alpha.reshape(2, 2).T
+    return (u * u).dot(alpha.reshape(2, 2).T)
 
 
 def _innovation(z: np.ndarray, z_hat: np.ndarray) -> np.ndarray:
@@ -167,11 +168,11 @@ def _log_normal(nu: np.ndarray, L: np.ndarray):
 def _sqrt_psd(S: np.ndarray) -> np.ndarray:
     """A square root ``R`` with ``R @ R.T == S``: the lower Cholesky factor if ``S`` is
     positive definite, else the symmetric root (``S`` positive semi-definite)."""
-    try:
-        return np.linalg.cholesky(S)
-    except np.linalg.LinAlgError:
-        w, U = np.linalg.eigh(S)
-        return U * np.sqrt(np.clip(w, 0.0, None))
+    L, info = _dpotrf(S, lower=1)  # LAPACK's Cholesky (its other triangle zeroed)
+    if info == 0:
+        return L
+    w, U = np.linalg.eigh(S)
+    return U * np.sqrt(np.clip(w, 0.0, None))
 
 
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
@@ -227,7 +228,7 @@ def _ekf_predict(mu, Sigma, u, dt, alpha):
     V = np.array([[v11, v12], [v21, v22], [0.0, dt]])  # line 4
     M = np.diag(_motion_noise(alpha, u))  # line 5
     mu_bar = np.array(_model_at(_arc, x, y, theta, v, w, dt))  # line 6
-    Sigma_bar = G @ Sigma @ G.T + V @ M @ V.T  # line 7
+    Sigma_bar = G.dot(Sigma).dot(G.T) + V.dot(M).dot(V.T)  # line 7
     _finite_or_raise("the prediction", Sigma_bar)
     return mu_bar, Sigma_bar
 
@@ -257,13 +258,13 @@ def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
     log_p = 0.0
     for z_i, j in zip(z, c.tolist(), strict=True):  # lines 9-10
         z_hat, H = _landmark_at(mu_bar, m[j], d)  # lines 11-13
-        S = H @ Sigma_bar @ H.T + Q  # line 14
+        S = H.dot(Sigma_bar).dot(H.T) + Q  # line 14
         S_inv, log_det_S = _inverse(S)
-        K = Sigma_bar @ H.T @ S_inv  # line 15
+        K = Sigma_bar.dot(H.T).dot(S_inv)  # line 15
         nu = _innovation(z_i, z_hat)
-        mu_bar = mu_bar + K @ nu  # line 16
-        Sigma_bar = (I - K @ H) @ Sigma_bar  # line 17
-        log_p -= 0.5 * (nu @ S_inv @ nu + log_det_S + d * _LOG_2PI)  # line 21, one factor
+        mu_bar = mu_bar + K.dot(nu)  # line 16
+        Sigma_bar = (I - K.dot(H)).dot(Sigma_bar)  # line 17
+        log_p -= 0.5 * (nu.dot(S_inv).dot(nu) + log_det_S + d * _LOG_2PI)  # line 21, one factor
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 19-20
     return mu_t, Sigma_t, log_p
 
@@ -456,6 +457,7 @@ def _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold):
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
     d = z.shape[1]
     Q = np.diag(sigmas[:d] ** 2)  # line 8
+    I = _identity(3)  # noqa: E741 (the table's I)
     landmarks = m[:, :d]
     j = np.full(z.shape[0], -1, dtype=int)
     for i in range(z.shape[0]):  # line 9; lines 10-15 for all landmarks k at once
@@ -468,9 +470,9 @@ def _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold):
         if threshold is not None and d2[k] > threshold:
             continue
         j[i] = k
-        K = Sigma_bar @ H[k].T @ np.linalg.inv(S[k])  # line 17
-        mu_bar = mu_bar + K @ nu[k]  # line 18
-        Sigma_bar = (np.eye(3) - K @ H[k]) @ Sigma_bar  # line 19
+        K = Sigma_bar.dot(H[k].T).dot(_inverse(S[k])[0])  # line 17
+        mu_bar = mu_bar + K.dot(nu[k])  # line 18
+        Sigma_bar = (I - K.dot(H[k])).dot(Sigma_bar)  # line 19
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 21-22
     return mu_t, Sigma_t, j
 
@@ -618,7 +620,7 @@ def _circular_mean(w, angles):
     angles unwrapped next to :math:`\theta_0`, right across ±π and with a negative
     :math:`w_0` (where a mean of unit vectors would not be).
     """
-    return angles[0] + w @ _wrap(angles - angles[0])
+    return angles[0] + w.dot(_wrap(angles - angles[0]))
 
 
 def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
@@ -631,23 +633,26 @@ def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
     n = 5 + 2 * k
     gamma, wm, wc = _weights_cached(n, *params)
     M = _motion_noise(alpha, u)  # line 2, the diagonal of M_t
-    Q = np.tile(sigmas[:2] ** 2, k)  # line 3, the diagonals of k copies of Q_t
-    mu_a = np.concatenate([mu, np.zeros(2 + 2 * k)])  # line 4
-    # Line 5: Σ^a = diag(Σ, M_t, Q_t, ...), and its square root block by block (M_t is
-    # zero for a robot at rest, which a Cholesky of the whole matrix would reject; for a
-    # positive-definite Σ^a this is its Cholesky factor).
+    Q = sigmas[:2] ** 2  # line 3, the diagonal of Q_t
+    mu_a = np.zeros(n)  # line 4: (mu, 0, 0)
+    mu_a[:3] = mu
+    # Line 5: Σ^a = diag(Σ, M_t, Q_t, ..., Q_t) (one Q_t a feature), and its square root
+    # block by block (M_t is zero for a robot at rest, which a Cholesky of the whole matrix
+    # would reject; for a positive-definite Σ^a this is its Cholesky factor).
     root = np.zeros((n, n))
     root[:3, :3] = _sqrt_psd(Sigma)
-    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([M, Q])))
-    chi_a = np.concatenate([mu_a[None], mu_a + gamma * root.T, mu_a - gamma * root.T])  # line 6
+    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([M, *[Q] * k])))
+    spread = gamma * root.T
+    chi_a = np.concatenate([mu_a[None], mu_a + spread, mu_a - spread])  # line 6
     chi_x, chi_u, chi_z = chi_a[:, :3], chi_a[:, 3:5], chi_a[:, 5:]
-    chi_x_bar = _velocity_motion_core(chi_x, u + chi_u, dt)  # line 7
+    chi_x_bar = np.empty_like(chi_x)  # line 7: g(u + χ^u, χ^x), the motion model's _arc
+    _arc(*chi_x.T, *(u + chi_u).T, dt, out=chi_x_bar)
     _finite_or_raise("the predicted sigma points", chi_x_bar)
-    mu_bar = wm @ chi_x_bar  # line 8
+    mu_bar = wm.dot(chi_x_bar)  # line 8
     mu_bar[2] = _circular_mean(wm, chi_x_bar[:, 2])
     dx = chi_x_bar - mu_bar
     dx[:, 2] = _wrap(dx[:, 2])
-    Sigma_bar = (wc[:, None] * dx).T @ dx  # line 9
+    Sigma_bar = (wc[:, None] * dx).T.dot(dx)  # line 9
     Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
     # A sum of outer products with weights >= 0 is positive semi-definite; only a negative
     # w_0^(c) (a small ukf_alpha) can break it.
@@ -669,18 +674,18 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
         return mu_t, Sigma_t, 0.0
     Z_bar = _landmark_measurement_core(chi_x_bar[:, None, :], m[c][None, :, :2])  # line 10
     Z_bar += chi_z.reshape(-1, k, 2)  # (2n+1, k, 2)
-    z_hat = np.einsum("i,ikd->kd", wm, Z_bar)  # line 11
+    z_hat = wm.dot(Z_bar.reshape(-1, 2 * k)).reshape(k, 2)  # line 11
     z_hat[:, 1] = _circular_mean(wm, Z_bar[:, :, 1])
     dz = _innovation(Z_bar, z_hat).reshape(-1, 2 * k)
-    S = (wc[:, None] * dz).T @ dz  # line 12
+    S = (wc[:, None] * dz).T.dot(dz)  # line 12
     S = 0.5 * (S + S.T)
-    Sigma_xz = (wc[:, None] * dx).T @ dz  # line 13
-    L = _cholesky(S)
-    K = Sigma_xz @ np.linalg.inv(S)  # line 14
+    Sigma_xz = (wc[:, None] * dx).T.dot(dz)  # line 13
+    S_inv, log_det_S = _inverse(S)
+    K = Sigma_xz.dot(S_inv)  # line 14
     nu = _innovation(z[:, :2], z_hat).reshape(2 * k)
-    mu_t = mu_bar + K @ nu  # line 15
-    Sigma_t = Sigma_bar - K @ S @ K.T  # line 16
-    log_p = float(_log_normal(nu, L)[1])  # line 17
+    mu_t = mu_bar + K.dot(nu)  # line 15
+    Sigma_t = Sigma_bar - K.dot(S).dot(K.T)  # line 16
+    log_p = -0.5 * (nu.dot(S_inv).dot(nu) + log_det_S + 2 * k * _LOG_2PI)  # line 17
     mu_t, Sigma_t = _finish(mu_t, Sigma_t)
     return mu_t, Sigma_t, log_p
 
