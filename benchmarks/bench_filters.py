@@ -26,8 +26,11 @@ bearing residual. filterpy's ``update`` writes :math:`\Sigma` in Joseph form, eq
 the table's :math:`(I - KH)\bar\Sigma` in exact arithmetic; the two must agree to 1e-12
 (printed). filterpy does not compute :math:`p(z_t)`; the library does, in the time shown.
 
-Timing: :func:`time.perf_counter`, one warm-up, the minimum of several repeats, garbage
-collector paused. The machine is shared (2 cores, several agents): repeat runs vary.
+Timing: :func:`time.process_time` (the CPU time of this process: the code timed is
+single-threaded, and on a shared machine the wall clock also counts the time other
+processes hold the core), one warm-up, the minimum of several repeats in which the
+variants compared take turns, garbage collector paused. The machine is shared (2 cores,
+several agents): repeat runs vary.
 """
 
 from __future__ import annotations
@@ -280,9 +283,9 @@ def best_of(fn, repeats):
     gc.disable()
     try:
         for _ in range(repeats):
-            t0 = time.perf_counter()
+            t0 = time.process_time()
             fn()
-            times.append(time.perf_counter() - t0)
+            times.append(time.process_time() - t0)
     finally:
         gc.enable()
     return min(times)
@@ -299,10 +302,10 @@ def best_of_each(fns, repeats, number):
     try:
         for _ in range(repeats):
             for k, fn in enumerate(fns):
-                t0 = time.perf_counter()
+                t0 = time.process_time()
                 for _ in range(number):
                     fn()
-                best[k] = min(best[k], (time.perf_counter() - t0) / number)
+                best[k] = min(best[k], (time.process_time() - t0) / number)
     finally:
         gc.enable()
     return best
