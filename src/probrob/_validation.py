@@ -45,6 +45,7 @@ import numpy as np
 from scipy.linalg.lapack import dpotrf as _dpotrf
 
 _REAL_KINDS = "biuf"  # bool, signed and unsigned integers, floats
+_FLOAT64 = np.dtype(np.float64)
 _FEW = 64  # up to this many numbers, a Python loop beats a numpy call (its overhead ~1 µs)
 
 
@@ -69,6 +70,8 @@ def as_float_array(value, name: str) -> np.ndarray:
     silently drop the imaginary part), and ``ValueError`` naming ``name`` for anything that is
     not numeric (``None``, strings, ragged nested lists, objects).
     """
+    if type(value) is np.ndarray and value.dtype is _FLOAT64:  # the common case, fast
+        return value
     try:
         arr = np.asarray(value)
     except (TypeError, ValueError) as exc:  # ragged nesting

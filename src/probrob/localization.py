@@ -91,13 +91,18 @@ def _finite_or_raise(what: str, *arrays) -> None:
         raise _NonFinite(what)
 
 
-def _checked(core, what: str, arguments: dict):
-    """Call ``core()``; a :class:`_NonFinite` becomes an overflow error naming ``arguments``."""
+def _checked(core, what: str, arguments):
+    """Call ``core()``; a :class:`_NonFinite` becomes an overflow error naming ``arguments``.
+
+    ``arguments`` is a dict of the caller's arguments, or a function returning it (built
+    only for the error).
+    """
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             return core()
     except _NonFinite as exc:
-        raise check.overflow_error(f"{what} ({exc})", **arguments) from None
+        named = arguments() if callable(arguments) else arguments
+        raise check.overflow_error(f"{what} ({exc})", **named) from None
 
 
 # --------------------------------------------------------------------------- shared pieces
@@ -341,7 +346,7 @@ def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sig
     mu_t, Sigma_t, log_p = _checked(
         lambda: _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas),
         "Table 7.2's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
     return mu_t, Sigma_t, (log_p if log else math.exp(log_p))
 
@@ -525,7 +530,7 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
     return _checked(
         lambda: _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold),
         "Table 7.3's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
 
 
@@ -778,7 +783,7 @@ def ukf_localization(
     mu_t, Sigma_t, log_p = _checked(
         lambda: _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params),
         "Table 7.4's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
     return mu_t, Sigma_t, (log_p if log else math.exp(log_p))
 
@@ -855,7 +860,7 @@ def ukf_localization_ml(
     return _checked(
         lambda: _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold),
         "Table 7.4's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
 
 
@@ -1036,47 +1041,60 @@ def run_filter(
     mus, Sigmas = np.empty((T, 3)), np.empty((T, 3, 3))
     cs = [None] * T
     log_pz = np.full(T, np.nan)
+    dt_list = dts.tolist()  # Python floats: the models' scalar path
     i = 0
-    while i < T:
-        if method[0] == "e" and zs[i].shape[0] == 0:
-            # A stretch without features: the exact vectorised composition of predictions.
-            j = i
-            while j < T and zs[j].shape[0] == 0:
-                j += 1
-            step = functools.partial(_predict_segment, mu, Sigma, us[i:j], dts[i:j], alpha)
-            seg_mu, seg_Sigma = _run_step(step, slice(i, j), us, dts, Sigma0=Sigma0, alpha=alpha)
-            seg_mu[:, 2] = _wrap(seg_mu[:, 2])
-            mus[i:j], Sigmas[i:j] = seg_mu, seg_Sigma
-            cs[i:j] = [np.zeros(0, dtype=int) for _ in range(i, j)]
-            log_pz[i:j] = 0.0 if method == "ekf" else np.nan
-            mu, Sigma = seg_mu[-1], seg_Sigma[-1]
-            i = j
-            continue
-        args = (mu, Sigma, us[i], zs[i])
-        if method == "ekf":
-            step = functools.partial(_ekf_known, *args, cs_given[i], m, dts[i], alpha, sigmas)
-        elif method == "ekf_ml":
-            step = functools.partial(_ekf_ml, *args, m, dts[i], alpha, sigmas, threshold)
-        elif method == "ukf":
-            step = functools.partial(_ukf, *args, cs_given[i], m, dts[i], alpha, sigmas, params)
-        else:
-            step = functools.partial(_ukf_ml, *args, m, dts[i], alpha, sigmas, params, threshold)
-        mu, Sigma, out = _run_step(step, i, us, dts, Sigma0=Sigma0, alpha=alpha, sigmas=sigmas)
-        if method in ("ekf", "ukf"):
-            log_pz[i], cs[i] = out, cs_given[i]
-        else:
-            cs[i] = out
-        mus[i], Sigmas[i] = mu, Sigma
-        i += 1
+    # One np.errstate for the whole run (the cores report overflow as _NonFinite).
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        while i < T:
+            if method[0] == "e" and zs[i].shape[0] == 0:
+                # A stretch without features: the exact vectorised composition of predictions.
+                j = i
+                while j < T and zs[j].shape[0] == 0:
+                    j += 1
+                try:
+                    seg_mu, seg_Sigma = _predict_segment(mu, Sigma, us[i:j], dts[i:j], alpha)
+                except _NonFinite as exc:
+                    raise _step_error(
+                        exc, slice(i, j), us, dts, Sigma0=Sigma0, alpha=alpha
+                    ) from None
+                seg_mu[:, 2] = _wrap(seg_mu[:, 2])
+                mus[i:j], Sigmas[i:j] = seg_mu, seg_Sigma
+                cs[i:j] = [np.zeros(0, dtype=int) for _ in range(i, j)]
+                log_pz[i:j] = 0.0 if method == "ekf" else np.nan
+                mu, Sigma = seg_mu[-1], seg_Sigma[-1]
+                i = j
+                continue
+            args = (mu, Sigma, us[i], zs[i])
+            try:
+                if method == "ekf":
+                    mu, Sigma, out = _ekf_known(*args, cs_given[i], m, dt_list[i], alpha, sigmas)
+                elif method == "ekf_ml":
+                    mu, Sigma, out = _ekf_ml(*args, m, dt_list[i], alpha, sigmas, threshold)
+                elif method == "ukf":
+                    mu, Sigma, out = _ukf(*args, cs_given[i], m, dt_list[i], alpha, sigmas, params)
+                else:
+                    mu, Sigma, out = _ukf_ml(
+                        *args, m, dt_list[i], alpha, sigmas, params, threshold
+                    )
+            except _NonFinite as exc:
+                raise _step_error(
+                    exc, i, us, dts, Sigma0=Sigma0, alpha=alpha, sigmas=sigmas
+                ) from None
+            if method in ("ekf", "ukf"):
+                log_pz[i], cs[i] = out, cs_given[i]
+            else:
+                cs[i] = out
+            mus[i], Sigmas[i] = mu, Sigma
+            i += 1
     return FilterRun(t=t, mu=mus, Sigma=Sigmas, c=cs, log_pz=log_pz)
 
 
-def _run_step(core, index, us, dts, **arguments):
-    """One step (or stretch) of :func:`run_filter`; an overflow is blamed on its own values.
+def _step_error(exc, index, us, dts, **arguments) -> ValueError:
+    """The overflow of one step (or stretch) of :func:`run_filter`, blamed on its own values.
 
     ``index`` is the step's index or the stretch's slice; ``arguments`` the other arguments
     of :func:`run_filter` the step was computed from.
     """
     label = index if isinstance(index, int) else f"{index.start}:{index.stop}"
     named = {f"steps[{label}].u": us[index], f"steps[{label}].dt": dts[index], **arguments}
-    return _checked(core, f"step {label}", named)
+    return check.overflow_error(f"step {label} ({exc})", **named)
