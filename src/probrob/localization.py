@@ -269,7 +269,9 @@ def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
         nu = _innovation(z_i, z_hat)
         mu_bar = mu_bar + K.dot(nu)  # line 16
         Sigma_bar = (I - K.dot(H)).dot(Sigma_bar)  # line 17
-        log_p -= 0.5 * (nu.dot(S_inv).dot(nu) + log_det_S + d * _LOG_2PI)  # line 21, one factor
+        log_p -= 0.5 * (
+            float(nu.dot(S_inv).dot(nu)) + log_det_S + d * _LOG_2PI
+        )  # line 21, one factor
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 19-20
     return mu_t, Sigma_t, log_p
 
@@ -681,16 +683,18 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
     Z_bar += chi_z.reshape(-1, k, 2)  # (2n+1, k, 2)
     z_hat = wm.dot(Z_bar.reshape(-1, 2 * k)).reshape(k, 2)  # line 11
     z_hat[:, 1] = _circular_mean(wm, Z_bar[:, :, 1])
-    dz = _innovation(Z_bar, z_hat).reshape(-1, 2 * k)
+    # The residuals of the sigma points (lines 12, 13) and the innovation (line 15), the
+    # bearings wrapped together.
+    residuals = _innovation(np.concatenate([Z_bar, z[None, :, :2]]), z_hat)
+    dz, nu = residuals[:-1].reshape(-1, 2 * k), residuals[-1].reshape(2 * k)
     S = (wc[:, None] * dz).T.dot(dz)  # line 12
     S = 0.5 * (S + S.T)
     Sigma_xz = (wc[:, None] * dx).T.dot(dz)  # line 13
     S_inv, log_det_S = _inverse(S)
     K = Sigma_xz.dot(S_inv)  # line 14
-    nu = _innovation(z[:, :2], z_hat).reshape(2 * k)
     mu_t = mu_bar + K.dot(nu)  # line 15
     Sigma_t = Sigma_bar - K.dot(S).dot(K.T)  # line 16
-    log_p = -0.5 * (nu.dot(S_inv).dot(nu) + log_det_S + 2 * k * _LOG_2PI)  # line 17
+    log_p = -0.5 * (float(nu.dot(S_inv).dot(nu)) + log_det_S + 2 * k * _LOG_2PI)  # line 17
     mu_t, Sigma_t = _finish(mu_t, Sigma_t)
     return mu_t, Sigma_t, log_p
 
