@@ -22,7 +22,12 @@ Each table is written once, in numpy, with the book's names (``G``, ``V``, ``M``
 ``S``, ``K``, ``mu_bar``, ``Sigma_bar``) in the order of its lines. :math:`g` and its
 Jacobians come from :mod:`probrob.motion` (exact at :math:`\omega = 0`), :math:`h` and its
 Jacobian from :mod:`probrob.sensors`, so each model exists once. The public functions check
-their input once (:mod:`probrob._validation`) and then call the unchecked cores. Every
+their input once (:mod:`probrob._validation`) and then call the unchecked cores under one
+``np.errstate`` (:func:`run_filter`: one for the whole run). On the tables' 2×2 and 3×3
+matrices numpy's per-call cost exceeds the arithmetic, so the lines are spelled as filterpy
+spells them, products with ``ndarray.dot`` (``@`` costs twice as much there), and
+:math:`S^{-1}` with :math:`\log\det S` come from one Cholesky factorisation (LAPACK's
+``dposv``), not from ``np.linalg`` calls that each check their input again. Every
 bearing innovation, and every bearing and heading residual of the UKF, is wrapped with
 :mod:`probrob.angles`; the returned mean heading is wrapped to :math:`[-\pi, \pi)`.
 
