@@ -284,3 +284,15 @@ def test_all_finite_small_and_large_paths_agree(n):
     pair = np.ones(n)
     pair[0], pair[-1] = math.inf, -math.inf  # inf - inf: NaN, not finite
     assert not check.all_finite(pair)
+
+
+def test_pz_of_an_extreme_pose_is_zero_not_nan():
+    """Innovations near 1e308: the EKF's Mahalanobis distance overflows to inf and p(z) is 0,
+    not NaN (a triangular solve of such an innovation can meet inf - inf); the UKF's S is
+    infinite there and refused, as before."""
+    mu = np.array([5.66666667e307, -1.13333333e308, 1.7e308])
+    args = (np.diag([0.1, 0.1, 0.05]), [1.0, 0.2], [[2.0, 0.3, 0.0]], [0], MAP, 1.0)
+    _, _, p = ekf_localization_known_correspondences(mu, *args, [0.05] * 4, (0.1, 0.05, 0.2))
+    assert p == 0.0
+    with pytest.raises(ValueError, match=r"^S \(the innovation covariance.*not positive definite"):
+        ukf_localization(mu, *args, [0.05] * 4, (0.1, 0.05, 0.2))

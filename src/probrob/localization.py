@@ -49,6 +49,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.blas import dtrsv as _dtrsv
 from scipy.linalg.lapack import dposv as _dposv
 from scipy.linalg.lapack import dpotrf as _dpotrf
 
@@ -155,16 +156,36 @@ def _identity(n: int) -> np.ndarray:
 
 
 def _inverse(S: np.ndarray, name: str = _S_NAME):
-    r""":math:`S^{-1}` and :math:`\log\det S` of one positive-definite ``S`` (n, n).
+    r""":math:`S^{-1}` and the Cholesky factor :math:`L` of one positive-definite ``S`` (n, n).
 
-    One Cholesky factorisation :math:`S = LL^T` and the solution of :math:`SX = I` with it
-    (LAPACK ``dposv``, one call: ``np.linalg`` on a 2×2 or 3×3 matrix costs more in its
-    checks than in the arithmetic), or ``ValueError`` naming ``name``.
+    One factorisation :math:`S = LL^T` and the solution of :math:`SX = I` with it (LAPACK
+    ``dposv``, one call: ``np.linalg`` on a 2×2 or 3×3 matrix costs more in its checks than
+    in the arithmetic), or ``ValueError`` naming ``name``. ``L`` is the lower triangle of the
+    array returned (its upper triangle is left as ``S``'s): for :func:`_log_normal_one`.
     """
+    if not check.all_finite(S):  # LAPACK would factor an infinite diagonal entry
+        raise _not_positive_definite(name)
     L, S_inv, info = _dposv(S, _identity(S.shape[0]), lower=1)
     if info != 0 or not check.all_finite(S_inv):
         raise _not_positive_definite(name)
-    return S_inv, 2.0 * sum(map(math.log, L.diagonal().tolist()))
+    return S_inv, L
+
+
+def _log_normal_one(nu: np.ndarray, L: np.ndarray) -> float:
+    r""":math:`\log N(\nu; 0, S)` of one ``nu`` (n,), ``L`` the factor of :func:`_inverse`.
+
+    The Mahalanobis distance² as :math:`|L^{-1}\nu|^2`; where that overflows (the solve
+    may give ``inf - inf``), as :math:`s^2 |L^{-1}(\nu / s)|^2` with :math:`s = \max|\nu_i|`:
+    +inf, never NaN. The log-determinant from the diagonal of ``L``.
+    """
+    w = _dtrsv(L, nu, lower=1)
+    d2 = float(w.dot(w))
+    if not d2 < math.inf:
+        scale = float(np.abs(nu).max())
+        w = _dtrsv(L, nu / scale, lower=1)
+        d2 = scale * scale * float(w.dot(w))
+    log_det = 2.0 * sum(map(math.log, L.diagonal().tolist()))
+    return -0.5 * (d2 + log_det + nu.shape[0] * _LOG_2PI)
 
 
 def _log_normal(nu: np.ndarray, L: np.ndarray):
@@ -269,14 +290,12 @@ def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
     for z_i, j in zip(z, c.tolist(), strict=True):  # lines 9-10
         z_hat, H = _landmark_at(mu_bar, m[j], d)  # lines 11-13
         S = H.dot(Sigma_bar).dot(H.T) + Q  # line 14
-        S_inv, log_det_S = _inverse(S)
+        S_inv, L = _inverse(S)
         K = Sigma_bar.dot(H.T).dot(S_inv)  # line 15
         nu = _innovation(z_i, z_hat)
         mu_bar = mu_bar + K.dot(nu)  # line 16
         Sigma_bar = (I - K.dot(H)).dot(Sigma_bar)  # line 17
-        log_p -= 0.5 * (
-            float(nu.dot(S_inv).dot(nu)) + log_det_S + d * _LOG_2PI
-        )  # line 21, one factor
+        log_p += _log_normal_one(nu, L)  # line 21, one factor
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 19-20
     return mu_t, Sigma_t, log_p
 
@@ -695,11 +714,11 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
     S = (wc[:, None] * dz).T.dot(dz)  # line 12
     S = 0.5 * (S + S.T)
     Sigma_xz = (wc[:, None] * dx).T.dot(dz)  # line 13
-    S_inv, log_det_S = _inverse(S)
+    S_inv, L = _inverse(S)
     K = Sigma_xz.dot(S_inv)  # line 14
     mu_t = mu_bar + K.dot(nu)  # line 15
     Sigma_t = Sigma_bar - K.dot(S).dot(K.T)  # line 16
-    log_p = -0.5 * (float(nu.dot(S_inv).dot(nu)) + log_det_S + 2 * k * _LOG_2PI)  # line 17
+    log_p = _log_normal_one(nu, L)  # line 17
     mu_t, Sigma_t = _finish(mu_t, Sigma_t)
     return mu_t, Sigma_t, log_p
 
