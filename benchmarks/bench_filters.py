@@ -403,7 +403,7 @@ def main(argv=None) -> int:
                 lambda mt=method: run_filter(steps, mu0, Sigma0, m_real, alpha, sigmas, method=mt),
                 lambda f=naive_fn: naive_run(f, steps, mu0, Sigma0, m_real_list, alpha, sigmas),
             ],
-            2 if args.quick else 1,
+            2,
             1,
         )
         rows.append((f"MRCLAM {name}, {len(steps):,} steps", t_nai, None, t_lib))
