@@ -38,11 +38,15 @@ their argument.
 from __future__ import annotations
 
 import functools
+import math
 import operator
 
 import numpy as np
+from scipy.linalg.lapack import dpotrf as _dpotrf
 
 _REAL_KINDS = "biuf"  # bool, signed and unsigned integers, floats
+_FLOAT64 = np.dtype(np.float64)
+_FEW = 64  # up to this many numbers, a Python loop beats a numpy call (its overhead ~1 µs)
 
 
 def _short(value, limit: int = 120) -> str:
@@ -66,6 +70,8 @@ def as_float_array(value, name: str) -> np.ndarray:
     silently drop the imaginary part), and ``ValueError`` naming ``name`` for anything that is
     not numeric (``None``, strings, ragged nested lists, objects).
     """
+    if type(value) is np.ndarray and value.dtype is _FLOAT64:  # the common case, fast
+        return value
     try:
         arr = np.asarray(value)
     except (TypeError, ValueError) as exc:  # ragged nesting
@@ -98,12 +104,25 @@ array = as_float_array
 
 def all_finite(arr: np.ndarray) -> bool:
     """Whether every entry of a float array is finite (fast: one reduction in the common case)."""
-    if arr.size == 0:
-        return True
-    with np.errstate(over="ignore", invalid="ignore"):
-        total = np.add.reduce(arr, axis=None)
+    if arr.size <= _FEW:
+        # A few numbers: their sum in Python floats (which overflow to inf silently) costs
+        # less than entering np.errstate for one reduction.
+        finite_sum = math.isfinite(sum(arr.ravel().tolist(), 0.0))
+    else:
+        with np.errstate(over="ignore", invalid="ignore"):
+            finite_sum = bool(np.isfinite(np.add.reduce(arr, axis=None)))
     # A finite sum proves every entry finite; an infinite one may be a sum that overflowed.
-    return bool(np.isfinite(total)) or bool(np.isfinite(arr).all())
+    return finite_sum or bool(np.isfinite(arr).all())
+
+
+def _min(arr: np.ndarray):
+    """The smallest entry of a non-empty array (a Python loop for a few numbers)."""
+    return min(arr.ravel().tolist()) if arr.size <= _FEW else arr.min()
+
+
+def _max(arr: np.ndarray):
+    """The largest entry of a non-empty array (a Python loop for a few numbers)."""
+    return max(arr.ravel().tolist()) if arr.size <= _FEW else arr.max()
 
 
 def finite(value, name: str) -> np.ndarray:
@@ -155,13 +174,15 @@ def alphas(value, name: str, count: int) -> np.ndarray:
     arr = finite(value, name)
     if arr.shape != (count,):
         raise ValueError(f"{name} must hold {count} values (α1..α{count}), got shape {arr.shape}")
-    if np.any(arr < 0):
+    if _min(arr) < 0:
         raise ValueError(f"{name} must be non-negative, got {arr.tolist()}")
     return arr
 
 
 def positive_scalar(value, name: str) -> float:
     """Return a finite, strictly positive float."""
+    if type(value) is float and 0.0 < value < math.inf:  # the common case, fast
+        return value
     arr = finite(value, name)
     if arr.ndim != 0 or not arr > 0:
         raise ValueError(f"{name} must be a positive scalar, got {_short(value)}")
@@ -170,6 +191,8 @@ def positive_scalar(value, name: str) -> float:
 
 def real_scalar(value, name: str) -> float:
     """Return one finite float (a number or a 0-d array; ``[x]`` is not a scalar)."""
+    if type(value) is float and math.isfinite(value):  # the common case, fast
+        return value
     arr = finite(value, name)
     if arr.ndim != 0:
         raise ValueError(f"{name} must be a number, got shape {arr.shape}: {_short(value)}")
@@ -513,8 +536,9 @@ def covariance(value, name: str, sizes: tuple[int, ...] = (3,), *, stack: bool =
     if S.ndim < 2 or (S.ndim > 2 and not stack) or S.shape[-2] != n or n not in sizes:
         shapes = " or ".join(f"({'..., ' if stack else ''}{k}, {k})" for k in sizes)
         raise ValueError(f"{name} must have shape {shapes}, got {S.shape}")
-    ST = np.swapaxes(S, -1, -2)
-    if not np.all(np.abs(S - ST) <= 1e-12 + 1e-9 * np.abs(ST)):
+    ST = S.swapaxes(-1, -2)
+    exactly = S.tolist() == ST.tolist() if S.size <= _FEW else (S == ST).all()
+    if not exactly and not np.all(np.abs(S - ST) <= 1e-12 + 1e-9 * np.abs(ST)):
         where = tuple(int(k) for k in np.argwhere(np.abs(S - ST) > 1e-12 + 1e-9 * np.abs(ST))[0])
         *batch, i, j = where
         raise ValueError(
@@ -532,12 +556,17 @@ def covariance(value, name: str, sizes: tuple[int, ...] = (3,), *, stack: bool =
 def is_positive_semidefinite(S: np.ndarray) -> bool:
     """Whether the symmetric ``S`` (..., n, n) is positive semi-definite: no eigenvalue below
     ``-1e-12`` times the largest (a Cholesky factor, when it exists, proves it cheaply)."""
-    try:
-        np.linalg.cholesky(S)
-        return True
-    except np.linalg.LinAlgError:
-        eig = np.linalg.eigvalsh(S)
-        return bool(np.all(eig[..., 0] >= -1e-12 * np.maximum(1.0, eig[..., -1])))
+    if S.ndim == 2:  # one matrix: LAPACK's Cholesky directly (np.linalg's checks cost more)
+        if _dpotrf(S, lower=1)[1] == 0:
+            return True
+    else:
+        try:
+            np.linalg.cholesky(S)
+            return True
+        except np.linalg.LinAlgError:
+            pass
+    eig = np.linalg.eigvalsh(S)
+    return bool(np.all(eig[..., 0] >= -1e-12 * np.maximum(1.0, eig[..., -1])))
 
 
 def landmark_map(value, name: str = "m") -> np.ndarray:
@@ -565,7 +594,7 @@ def features(value, name: str = "z") -> np.ndarray:
         raise ValueError(
             f"{name} must have shape (K, 3) (r, phi, s) or (K, 2) (r, phi), got {z.shape}"
         )
-    if np.any(z[:, 0] < 0):
+    if _min(z[:, 0]) < 0:
         raise ValueError(f"{name}: ranges must be >= 0")
     return z
 
@@ -578,7 +607,8 @@ def landmark_indices(value, name: str, count: int, n_landmarks: int) -> np.ndarr
     arr = np.asarray(value)
     if arr.size == 0 and count == 0:
         return np.zeros(0, dtype=int)
-    arr = np.atleast_1d(arr)
+    if arr.ndim == 0:
+        arr = arr[None]
     integral = arr.dtype.kind in "iu" or (
         arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.round(arr))
     )
@@ -588,7 +618,7 @@ def landmark_indices(value, name: str, count: int, n_landmarks: int) -> np.ndarr
         raise ValueError(
             f"{name} must have shape ({count},), one landmark index per feature, got {arr.shape}"
         )
-    if np.any(arr < 0) or np.any(arr >= n_landmarks):
+    if _min(arr) < 0 or _max(arr) >= n_landmarks:
         raise ValueError(
             f"{name} must index the map's {n_landmarks} landmarks, got {arr.tolist()}"
         )
@@ -602,10 +632,10 @@ def sigmas(value, name: str, lengths: tuple[int, ...], *, positive: bool) -> np.
     by them), else ``>= 0`` (a density of zero noise is a point mass).
     """
     arr = finite(value, name)
-    if arr.shape not in tuple((k,) for k in lengths):
+    if arr.ndim != 1 or arr.shape[0] not in lengths:
         need = " or ".join(("(σ_r, σ_φ, σ_s)" if k == 3 else "(σ_r, σ_φ)") for k in lengths)
         raise ValueError(f"{name} must hold the standard deviations {need}, got shape {arr.shape}")
-    if np.any(arr <= 0) if positive else np.any(arr < 0):
+    if _min(arr) <= 0 if positive else _min(arr) < 0:
         bound = "> 0" if positive else ">= 0"
         raise ValueError(f"{name} are standard deviations and must be {bound}, got {arr.tolist()}")
     return arr

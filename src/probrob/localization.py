@@ -22,7 +22,12 @@ Each table is written once, in numpy, with the book's names (``G``, ``V``, ``M``
 ``S``, ``K``, ``mu_bar``, ``Sigma_bar``) in the order of its lines. :math:`g` and its
 Jacobians come from :mod:`probrob.motion` (exact at :math:`\omega = 0`), :math:`h` and its
 Jacobian from :mod:`probrob.sensors`, so each model exists once. The public functions check
-their input once (:mod:`probrob._validation`) and then call the unchecked cores. Every
+their input once (:mod:`probrob._validation`) and then call the unchecked cores under one
+``np.errstate`` (:func:`run_filter`: one for the whole run). On the tables' 2×2 and 3×3
+matrices numpy's per-call cost exceeds the arithmetic, so the lines are spelled as filterpy
+spells them, products with ``ndarray.dot`` (``@`` costs twice as much there), and
+:math:`S^{-1}` with :math:`\log\det S` come from one Cholesky factorisation (LAPACK's
+``dposv``), not from ``np.linalg`` calls that each check their input again. Every
 bearing innovation, and every bearing and heading residual of the UKF, is wrapped with
 :mod:`probrob.angles`; the returned mean heading is wrapped to :math:`[-\pi, \pi)`.
 
@@ -44,6 +49,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.blas import dtrsv as _dtrsv
+from scipy.linalg.lapack import dposv as _dposv
+from scipy.linalg.lapack import dpotrf as _dpotrf
 
 from . import _validation as check
 from .angles import _wrap
@@ -85,17 +93,22 @@ class _NonFinite(ValueError):
 
 
 def _finite_or_raise(what: str, *arrays) -> None:
-    if not all(np.isfinite(a).all() for a in arrays):
+    if not all(map(check.all_finite, arrays)):
         raise _NonFinite(what)
 
 
-def _checked(core, what: str, arguments: dict):
-    """Call ``core()``; a :class:`_NonFinite` becomes an overflow error naming ``arguments``."""
+def _checked(core, what: str, arguments):
+    """Call ``core()``; a :class:`_NonFinite` becomes an overflow error naming ``arguments``.
+
+    ``arguments`` is a dict of the caller's arguments, or a function returning it (built
+    only for the error).
+    """
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             return core()
     except _NonFinite as exc:
-        raise check.overflow_error(f"{what} ({exc})", **arguments) from None
+        named = arguments() if callable(arguments) else arguments
+        raise check.overflow_error(f"{what} ({exc})", **named) from None
 
 
 # --------------------------------------------------------------------------- shared pieces
@@ -107,7 +120,7 @@ def _motion_noise(alpha: np.ndarray, u: np.ndarray) -> np.ndarray:
     :math:`(\alpha_1 v^2 + \alpha_2 \omega^2,\ \alpha_3 v^2 + \alpha_4 \omega^2)` for
     ``u`` of shape (..., 2).
     """
-    return np.square(u) @ np.reshape(alpha, (2, 2)).T
+    return (u * u).dot(alpha.reshape(2, 2).T)
 
 
 def _innovation(z: np.ndarray, z_hat: np.ndarray) -> np.ndarray:
@@ -124,11 +137,55 @@ def _cholesky(S: np.ndarray, name: str = _S_NAME) -> np.ndarray:
     except np.linalg.LinAlgError:
         L = None
     if L is None or not np.all(np.isfinite(L)):
-        raise ValueError(
-            f"{name} is not positive definite (a covariance must be symmetric with "
-            "positive eigenvalues); check the scales of Sigma and sigmas"
-        )
+        raise _not_positive_definite(name)
     return L
+
+
+def _not_positive_definite(name: str) -> ValueError:
+    return ValueError(
+        f"{name} is not positive definite (a covariance must be symmetric with "
+        "positive eigenvalues); check the scales of Sigma and sigmas"
+    )
+
+
+@functools.cache
+def _identity(n: int) -> np.ndarray:
+    eye = np.eye(n)
+    eye.setflags(write=False)
+    return eye
+
+
+def _inverse(S: np.ndarray, name: str = _S_NAME):
+    r""":math:`S^{-1}` and the Cholesky factor :math:`L` of one positive-definite ``S`` (n, n).
+
+    One factorisation :math:`S = LL^T` and the solution of :math:`SX = I` with it (LAPACK
+    ``dposv``, one call: ``np.linalg`` on a 2×2 or 3×3 matrix costs more in its checks than
+    in the arithmetic), or ``ValueError`` naming ``name``. ``L`` is the lower triangle of the
+    array returned (its upper triangle is left as ``S``'s): for :func:`_log_normal_one`.
+    """
+    if not check.all_finite(S):  # LAPACK would factor an infinite diagonal entry
+        raise _not_positive_definite(name)
+    L, S_inv, info = _dposv(S, _identity(S.shape[0]), lower=1)
+    if info != 0 or not check.all_finite(S_inv):
+        raise _not_positive_definite(name)
+    return S_inv, L
+
+
+def _log_normal_one(nu: np.ndarray, L: np.ndarray) -> float:
+    r""":math:`\log N(\nu; 0, S)` of one ``nu`` (n,), ``L`` the factor of :func:`_inverse`.
+
+    The Mahalanobis distance² as :math:`|L^{-1}\nu|^2`; where that overflows (the solve
+    may give ``inf - inf``), as :math:`s^2 |L^{-1}(\nu / s)|^2` with :math:`s = \max|\nu_i|`:
+    +inf, never NaN. The log-determinant from the diagonal of ``L``.
+    """
+    w = _dtrsv(L, nu, lower=1)
+    d2 = float(w.dot(w))
+    if not d2 < math.inf:
+        scale = float(np.abs(nu).max())
+        w = _dtrsv(L, nu / scale, lower=1)
+        d2 = scale * scale * float(w.dot(w))
+    log_det = 2.0 * sum(map(math.log, L.diagonal().tolist()))
+    return -0.5 * (d2 + log_det + nu.shape[0] * _LOG_2PI)
 
 
 def _log_normal(nu: np.ndarray, L: np.ndarray):
@@ -142,18 +199,18 @@ def _log_normal(nu: np.ndarray, L: np.ndarray):
 def _sqrt_psd(S: np.ndarray) -> np.ndarray:
     """A square root ``R`` with ``R @ R.T == S``: the lower Cholesky factor if ``S`` is
     positive definite, else the symmetric root (``S`` positive semi-definite)."""
-    try:
-        return np.linalg.cholesky(S)
-    except np.linalg.LinAlgError:
-        w, U = np.linalg.eigh(S)
-        return U * np.sqrt(np.clip(w, 0.0, None))
+    L, info = _dpotrf(S, lower=1)  # LAPACK's Cholesky (its other triangle zeroed)
+    if info == 0:
+        return L
+    w, U = np.linalg.eigh(S)
+    return U * np.sqrt(np.clip(w, 0.0, None))
 
 
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
     """Lines 19–20 (Tables 7.2, 7.3) and 15–16 (7.4): the heading wrapped, Σ symmetrised."""
     _finite_or_raise("the estimate", mu, Sigma)
     mu = mu.copy()
-    mu[2] = _wrap(float(mu[2]))
+    mu[2] = _wrap(mu.item(2))
     return mu, 0.5 * (Sigma + Sigma.T)
 
 
@@ -202,7 +259,7 @@ def _ekf_predict(mu, Sigma, u, dt, alpha):
     V = np.array([[v11, v12], [v21, v22], [0.0, dt]])  # line 4
     M = np.diag(_motion_noise(alpha, u))  # line 5
     mu_bar = np.array(_model_at(_arc, x, y, theta, v, w, dt))  # line 6
-    Sigma_bar = G @ Sigma @ G.T + V @ M @ V.T  # line 7
+    Sigma_bar = G.dot(Sigma).dot(G.T) + V.dot(M).dot(V.T)  # line 7
     _finite_or_raise("the prediction", Sigma_bar)
     return mu_bar, Sigma_bar
 
@@ -228,16 +285,17 @@ def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
     d = z.shape[1]
     Q = np.diag(sigmas[:d] ** 2)  # line 8
+    I = _identity(3)  # noqa: E741 (the table's I)
     log_p = 0.0
-    for z_i, j in zip(z, c, strict=True):  # lines 9-10
+    for z_i, j in zip(z, c.tolist(), strict=True):  # lines 9-10
         z_hat, H = _landmark_at(mu_bar, m[j], d)  # lines 11-13
-        S = H @ Sigma_bar @ H.T + Q  # line 14
-        L = _cholesky(S)
-        K = Sigma_bar @ H.T @ np.linalg.inv(S)  # line 15
+        S = H.dot(Sigma_bar).dot(H.T) + Q  # line 14
+        S_inv, L = _inverse(S)
+        K = Sigma_bar.dot(H.T).dot(S_inv)  # line 15
         nu = _innovation(z_i, z_hat)
-        mu_bar = mu_bar + K @ nu  # line 16
-        Sigma_bar = (np.eye(3) - K @ H) @ Sigma_bar  # line 17
-        log_p += float(_log_normal(nu, L)[1])  # line 21, one factor
+        mu_bar = mu_bar + K.dot(nu)  # line 16
+        Sigma_bar = (I - K.dot(H)).dot(Sigma_bar)  # line 17
+        log_p += _log_normal_one(nu, L)  # line 21, one factor
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 19-20
     return mu_t, Sigma_t, log_p
 
@@ -314,7 +372,7 @@ def ekf_localization_known_correspondences(mu, Sigma, u, z, c, m, dt, alpha, sig
     mu_t, Sigma_t, log_p = _checked(
         lambda: _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas),
         "Table 7.2's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
     return mu_t, Sigma_t, (log_p if log else math.exp(log_p))
 
@@ -430,6 +488,7 @@ def _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold):
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
     d = z.shape[1]
     Q = np.diag(sigmas[:d] ** 2)  # line 8
+    I = _identity(3)  # noqa: E741 (the table's I)
     landmarks = m[:, :d]
     j = np.full(z.shape[0], -1, dtype=int)
     for i in range(z.shape[0]):  # line 9; lines 10-15 for all landmarks k at once
@@ -442,9 +501,9 @@ def _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold):
         if threshold is not None and d2[k] > threshold:
             continue
         j[i] = k
-        K = Sigma_bar @ H[k].T @ np.linalg.inv(S[k])  # line 17
-        mu_bar = mu_bar + K @ nu[k]  # line 18
-        Sigma_bar = (np.eye(3) - K @ H[k]) @ Sigma_bar  # line 19
+        K = Sigma_bar.dot(H[k].T).dot(_inverse(S[k])[0])  # line 17
+        mu_bar = mu_bar + K.dot(nu[k])  # line 18
+        Sigma_bar = (I - K.dot(H[k])).dot(Sigma_bar)  # line 19
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 21-22
     return mu_t, Sigma_t, j
 
@@ -497,7 +556,7 @@ def ekf_localization(mu, Sigma, u, z, m, dt, alpha, sigmas, *, gate=None):
     return _checked(
         lambda: _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold),
         "Table 7.3's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
 
 
@@ -592,7 +651,7 @@ def _circular_mean(w, angles):
     angles unwrapped next to :math:`\theta_0`, right across ±π and with a negative
     :math:`w_0` (where a mean of unit vectors would not be).
     """
-    return angles[0] + w @ _wrap(angles - angles[0])
+    return angles[0] + w.dot(_wrap(angles - angles[0]))
 
 
 def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
@@ -605,23 +664,26 @@ def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
     n = 5 + 2 * k
     gamma, wm, wc = _weights_cached(n, *params)
     M = _motion_noise(alpha, u)  # line 2, the diagonal of M_t
-    Q = np.tile(sigmas[:2] ** 2, k)  # line 3, the diagonals of k copies of Q_t
-    mu_a = np.concatenate([mu, np.zeros(2 + 2 * k)])  # line 4
-    # Line 5: Σ^a = diag(Σ, M_t, Q_t, ...), and its square root block by block (M_t is
-    # zero for a robot at rest, which a Cholesky of the whole matrix would reject; for a
-    # positive-definite Σ^a this is its Cholesky factor).
+    Q = sigmas[:2] ** 2  # line 3, the diagonal of Q_t
+    mu_a = np.zeros(n)  # line 4: (mu, 0, 0)
+    mu_a[:3] = mu
+    # Line 5: Σ^a = diag(Σ, M_t, Q_t, ..., Q_t) (one Q_t a feature), and its square root
+    # block by block (M_t is zero for a robot at rest, which a Cholesky of the whole matrix
+    # would reject; for a positive-definite Σ^a this is its Cholesky factor).
     root = np.zeros((n, n))
     root[:3, :3] = _sqrt_psd(Sigma)
-    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([M, Q])))
-    chi_a = np.concatenate([mu_a[None], mu_a + gamma * root.T, mu_a - gamma * root.T])  # line 6
+    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([M, *[Q] * k])))
+    spread = gamma * root.T
+    chi_a = np.concatenate([mu_a[None], mu_a + spread, mu_a - spread])  # line 6
     chi_x, chi_u, chi_z = chi_a[:, :3], chi_a[:, 3:5], chi_a[:, 5:]
-    chi_x_bar = _velocity_motion_core(chi_x, u + chi_u, dt)  # line 7
+    chi_x_bar = np.empty_like(chi_x)  # line 7: g(u + χ^u, χ^x), the motion model's _arc
+    _arc(*chi_x.T, *(u + chi_u).T, dt, out=chi_x_bar)
     _finite_or_raise("the predicted sigma points", chi_x_bar)
-    mu_bar = wm @ chi_x_bar  # line 8
+    mu_bar = wm.dot(chi_x_bar)  # line 8
     mu_bar[2] = _circular_mean(wm, chi_x_bar[:, 2])
     dx = chi_x_bar - mu_bar
     dx[:, 2] = _wrap(dx[:, 2])
-    Sigma_bar = (wc[:, None] * dx).T @ dx  # line 9
+    Sigma_bar = (wc[:, None] * dx).T.dot(dx)  # line 9
     Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
     # A sum of outer products with weights >= 0 is positive semi-definite; only a negative
     # w_0^(c) (a small ukf_alpha) can break it.
@@ -643,18 +705,20 @@ def _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params):
         return mu_t, Sigma_t, 0.0
     Z_bar = _landmark_measurement_core(chi_x_bar[:, None, :], m[c][None, :, :2])  # line 10
     Z_bar += chi_z.reshape(-1, k, 2)  # (2n+1, k, 2)
-    z_hat = np.einsum("i,ikd->kd", wm, Z_bar)  # line 11
+    z_hat = wm.dot(Z_bar.reshape(-1, 2 * k)).reshape(k, 2)  # line 11
     z_hat[:, 1] = _circular_mean(wm, Z_bar[:, :, 1])
-    dz = _innovation(Z_bar, z_hat).reshape(-1, 2 * k)
-    S = (wc[:, None] * dz).T @ dz  # line 12
+    # The residuals of the sigma points (lines 12, 13) and the innovation (line 15), the
+    # bearings wrapped together.
+    residuals = _innovation(np.concatenate([Z_bar, z[None, :, :2]]), z_hat)
+    dz, nu = residuals[:-1].reshape(-1, 2 * k), residuals[-1].reshape(2 * k)
+    S = (wc[:, None] * dz).T.dot(dz)  # line 12
     S = 0.5 * (S + S.T)
-    Sigma_xz = (wc[:, None] * dx).T @ dz  # line 13
-    L = _cholesky(S)
-    K = Sigma_xz @ np.linalg.inv(S)  # line 14
-    nu = _innovation(z[:, :2], z_hat).reshape(2 * k)
-    mu_t = mu_bar + K @ nu  # line 15
-    Sigma_t = Sigma_bar - K @ S @ K.T  # line 16
-    log_p = float(_log_normal(nu, L)[1])  # line 17
+    Sigma_xz = (wc[:, None] * dx).T.dot(dz)  # line 13
+    S_inv, L = _inverse(S)
+    K = Sigma_xz.dot(S_inv)  # line 14
+    mu_t = mu_bar + K.dot(nu)  # line 15
+    Sigma_t = Sigma_bar - K.dot(S).dot(K.T)  # line 16
+    log_p = _log_normal_one(nu, L)  # line 17
     mu_t, Sigma_t = _finish(mu_t, Sigma_t)
     return mu_t, Sigma_t, log_p
 
@@ -747,7 +811,7 @@ def ukf_localization(
     mu_t, Sigma_t, log_p = _checked(
         lambda: _ukf(mu, Sigma, u, z, c, m, dt, alpha, sigmas, params),
         "Table 7.4's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
     return mu_t, Sigma_t, (log_p if log else math.exp(log_p))
 
@@ -824,7 +888,7 @@ def ukf_localization_ml(
     return _checked(
         lambda: _ukf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, params, threshold),
         "Table 7.4's step",
-        dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
+        lambda: dict(mu=mu, Sigma=Sigma, u=u, z=z, dt=dt, alpha=alpha, sigmas=sigmas),
     )
 
 
@@ -1005,47 +1069,60 @@ def run_filter(
     mus, Sigmas = np.empty((T, 3)), np.empty((T, 3, 3))
     cs = [None] * T
     log_pz = np.full(T, np.nan)
+    dt_list = dts.tolist()  # Python floats: the models' scalar path
     i = 0
-    while i < T:
-        if method[0] == "e" and zs[i].shape[0] == 0:
-            # A stretch without features: the exact vectorised composition of predictions.
-            j = i
-            while j < T and zs[j].shape[0] == 0:
-                j += 1
-            step = functools.partial(_predict_segment, mu, Sigma, us[i:j], dts[i:j], alpha)
-            seg_mu, seg_Sigma = _run_step(step, slice(i, j), us, dts, Sigma0=Sigma0, alpha=alpha)
-            seg_mu[:, 2] = _wrap(seg_mu[:, 2])
-            mus[i:j], Sigmas[i:j] = seg_mu, seg_Sigma
-            cs[i:j] = [np.zeros(0, dtype=int) for _ in range(i, j)]
-            log_pz[i:j] = 0.0 if method == "ekf" else np.nan
-            mu, Sigma = seg_mu[-1], seg_Sigma[-1]
-            i = j
-            continue
-        args = (mu, Sigma, us[i], zs[i])
-        if method == "ekf":
-            step = functools.partial(_ekf_known, *args, cs_given[i], m, dts[i], alpha, sigmas)
-        elif method == "ekf_ml":
-            step = functools.partial(_ekf_ml, *args, m, dts[i], alpha, sigmas, threshold)
-        elif method == "ukf":
-            step = functools.partial(_ukf, *args, cs_given[i], m, dts[i], alpha, sigmas, params)
-        else:
-            step = functools.partial(_ukf_ml, *args, m, dts[i], alpha, sigmas, params, threshold)
-        mu, Sigma, out = _run_step(step, i, us, dts, Sigma0=Sigma0, alpha=alpha, sigmas=sigmas)
-        if method in ("ekf", "ukf"):
-            log_pz[i], cs[i] = out, cs_given[i]
-        else:
-            cs[i] = out
-        mus[i], Sigmas[i] = mu, Sigma
-        i += 1
+    # One np.errstate for the whole run (the cores report overflow as _NonFinite).
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        while i < T:
+            if method[0] == "e" and zs[i].shape[0] == 0:
+                # A stretch without features: the exact vectorised composition of predictions.
+                j = i
+                while j < T and zs[j].shape[0] == 0:
+                    j += 1
+                try:
+                    seg_mu, seg_Sigma = _predict_segment(mu, Sigma, us[i:j], dts[i:j], alpha)
+                except _NonFinite as exc:
+                    raise _step_error(
+                        exc, slice(i, j), us, dts, Sigma0=Sigma0, alpha=alpha
+                    ) from None
+                seg_mu[:, 2] = _wrap(seg_mu[:, 2])
+                mus[i:j], Sigmas[i:j] = seg_mu, seg_Sigma
+                cs[i:j] = [np.zeros(0, dtype=int) for _ in range(i, j)]
+                log_pz[i:j] = 0.0 if method == "ekf" else np.nan
+                mu, Sigma = seg_mu[-1], seg_Sigma[-1]
+                i = j
+                continue
+            args = (mu, Sigma, us[i], zs[i])
+            try:
+                if method == "ekf":
+                    mu, Sigma, out = _ekf_known(*args, cs_given[i], m, dt_list[i], alpha, sigmas)
+                elif method == "ekf_ml":
+                    mu, Sigma, out = _ekf_ml(*args, m, dt_list[i], alpha, sigmas, threshold)
+                elif method == "ukf":
+                    mu, Sigma, out = _ukf(*args, cs_given[i], m, dt_list[i], alpha, sigmas, params)
+                else:
+                    mu, Sigma, out = _ukf_ml(
+                        *args, m, dt_list[i], alpha, sigmas, params, threshold
+                    )
+            except _NonFinite as exc:
+                raise _step_error(
+                    exc, i, us, dts, Sigma0=Sigma0, alpha=alpha, sigmas=sigmas
+                ) from None
+            if method in ("ekf", "ukf"):
+                log_pz[i], cs[i] = out, cs_given[i]
+            else:
+                cs[i] = out
+            mus[i], Sigmas[i] = mu, Sigma
+            i += 1
     return FilterRun(t=t, mu=mus, Sigma=Sigmas, c=cs, log_pz=log_pz)
 
 
-def _run_step(core, index, us, dts, **arguments):
-    """One step (or stretch) of :func:`run_filter`; an overflow is blamed on its own values.
+def _step_error(exc, index, us, dts, **arguments) -> ValueError:
+    """The overflow of one step (or stretch) of :func:`run_filter`, blamed on its own values.
 
     ``index`` is the step's index or the stretch's slice; ``arguments`` the other arguments
     of :func:`run_filter` the step was computed from.
     """
     label = index if isinstance(index, int) else f"{index.start}:{index.stop}"
     named = {f"steps[{label}].u": us[index], f"steps[{label}].dt": dts[index], **arguments}
-    return _checked(core, f"step {label}", named)
+    return check.overflow_error(f"step {label} ({exc})", **named)
