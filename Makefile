@@ -120,29 +120,29 @@ nbval: $(STAMP)
 	$(NBVAL) notebooks/
 
 # The same notebooks (and every exercise's solution, tests/test_exercise_solutions.py) once more
-# with numpy's SIMD kernels above its baseline switched off (NPY_DISABLE_CPU_FEATURES, the
-# features .ci/fp_features.py reads from numpy): exp, log, sin, cos and arctan2 then round
-# differently in their last bits, as on a reader's machine of another kind (AVX2, AVX-512,
-# arm64). A particle filter turns such a bit into another run: every claim about random runs
-# must hold here too, and every stored output that nbval compares must be the same. On a CPU
-# with nothing above numpy's baseline the second run takes the same path as the first.
+# on other floating-point paths: numpy's SIMD kernels above its baseline switched off
+# (NPY_DISABLE_CPU_FEATURES, the features .ci/fp_features.py reads from numpy), so exp, log, sin,
+# cos and arctan2 round differently in their last bits, and OpenBLAS's oldest kernels forced
+# (OPENBLAS_CORETYPE, .ci/fp_features.py --blas), so matrix products sum in another order, as on
+# a reader's machine of another kind (AVX2, AVX-512, arm64). A particle filter turns such a bit
+# into another run: every claim about random runs must hold here too, and every stored output
+# that nbval compares must be the same. A variable the caller set (this workplace's machines set
+# OPENBLAS_CORETYPE=Haswell) chose the first run's path: if it is already what this run would
+# set, this run takes the default instead, so that the two runs differ either way.
 nbval-fp: $(STAMP)
-	@if [ -n "$${NPY_DISABLE_CPU_FEATURES:-}" ]; then \
-	  echo "nbval-fp: nbval ran with NPY_DISABLE_CPU_FEATURES=\"$$NPY_DISABLE_CPU_FEATURES\"" \
-	    "(set by the caller): this run takes numpy's default path"; \
-	  unset NPY_DISABLE_CPU_FEATURES; features=""; \
-	else \
-	  features="$$($(BIN)/python .ci/fp_features.py)"; \
-	  if [ -z "$$features" ]; then \
-	    echo "nbval-fp: numpy dispatches to nothing above its baseline here: same path as nbval"; \
-	  fi; \
-	  echo "nbval-fp: NPY_DISABLE_CPU_FEATURES=\"$$features\""; \
-	  export NPY_DISABLE_CPU_FEATURES="$$features"; \
-	fi; \
+	@features="$$($(BIN)/python .ci/fp_features.py)"; \
+	blas="$$($(BIN)/python .ci/fp_features.py --blas)"; \
+	if [ -n "$${NPY_DISABLE_CPU_FEATURES:-}" ]; then features=""; fi; \
+	if [ "$${OPENBLAS_CORETYPE:-}" = "$$blas" ]; then blas=""; fi; \
+	echo "nbval-fp: NPY_DISABLE_CPU_FEATURES=\"$$features\" OPENBLAS_CORETYPE=\"$$blas\"" \
+	  "(nbval ran with \"$${NPY_DISABLE_CPU_FEATURES:-}\" and \"$${OPENBLAS_CORETYPE:-}\";" \
+	  "empty: numpy's and OpenBLAS's defaults)"; \
+	export NPY_DISABLE_CPU_FEATURES="$$features" OPENBLAS_CORETYPE="$$blas"; \
 	$(BIN)/python .ci/fp_features.py --check; \
 	start=$$SECONDS; \
 	$(NBVAL) notebooks/ tests/test_exercise_solutions.py; \
-	echo "nbval-fp: $$((SECONDS - start)) s with $${features:-nothing} disabled"
+	echo "nbval-fp: $$((SECONDS - start)) s with $${features:-nothing} disabled" \
+	  "and OpenBLAS's $${blas:-default} kernels"
 
 format: $(STAMP)
 	$(BIN)/ruff format .

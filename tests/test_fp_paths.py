@@ -10,6 +10,7 @@ runs nbval a second time with the SIMD features above numpy's baseline disabled
 
 from __future__ import annotations
 
+import platform
 import re
 import subprocess
 import sys
@@ -91,11 +92,34 @@ def test_fp_features_names_what_numpy_dispatches_to():
     assert "dispatched to nothing above the baseline" in check.stdout or not features
 
 
+def test_fp_features_forces_the_oldest_blas_kernels_of_the_architecture():
+    # the second run's OpenBLAS kernels: another summation order of every matrix product than
+    # the AVX2 or AVX-512 ones OpenBLAS picks by itself (a 0 came out -1e-17 on one CI machine)
+    script = ROOT / ".ci" / "fp_features.py"
+    blas = subprocess.run(
+        [sys.executable, str(script), "--blas"], capture_output=True, text=True, check=True
+    ).stdout.strip()
+    if platform.machine() not in ("x86_64", "aarch64"):
+        pytest.skip(f"no OpenBLAS kernel chosen for {platform.machine()}")
+    assert blas == {"x86_64": "Prescott", "aarch64": "ARMV8"}[platform.machine()]
+    runs = {}
+    for coretype in ("", blas):
+        env = {"OPENBLAS_CORETYPE": coretype, "PATH": "/usr/bin:/bin"}
+        check = subprocess.run(
+            [sys.executable, str(script), "--check"], capture_output=True, text=True, env=env
+        )
+        assert check.returncode == 0, check.stderr
+        runs[coretype] = re.search(r"OpenBLAS kernels: (\S+)", check.stdout)[1]
+    assert not runs[""].startswith("unknown"), runs  # numpy's wheel says which kernels run
+    if platform.machine() == "x86_64":
+        assert runs[blas] != runs[""], f"OPENBLAS_CORETYPE={blas} changed nothing: {runs}"
+
+
 def test_make_test_runs_the_notebooks_on_the_other_path():
     makefile = (ROOT / "Makefile").read_text(encoding="utf-8")
     assert re.search(r"^test: lint pytest nbval nbval-fp$", makefile, flags=re.M)
     recipe = makefile.split("\nnbval-fp:", 1)[1].split("\n\n", 1)[0]
-    assert 'export NPY_DISABLE_CPU_FEATURES="$$features"' in recipe
+    assert 'export NPY_DISABLE_CPU_FEATURES="$$features" OPENBLAS_CORETYPE="$$blas"' in recipe
     assert "$(NBVAL) notebooks/ tests/test_exercise_solutions.py" in recipe
 
 
