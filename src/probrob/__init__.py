@@ -13,6 +13,7 @@ The module map (each module holds one kind of thing; its docstring says what it 
 * :mod:`probrob.maps` — occupancy grids, their distance field and ray casting;
 * :mod:`probrob.localization` — the Gaussian filters, Tables 7.2–7.4, and ``run_filter``;
 * :mod:`probrob.mcl` — Monte Carlo localization, Tables 8.2–8.4, and the sampler of Table 4.4;
+* :mod:`probrob.grid_localization` — grid localization, Table 8.1 (a histogram filter over poses);
 * :mod:`probrob.evaluation` — the NEES, χ² quantiles and covariance ellipses of estimates;
 * :mod:`probrob.fitting` — noise parameters fitted to recorded data (ML and moment fits);
 * :mod:`probrob.simulation` — simulated landmark worlds and runs;
