@@ -15,7 +15,12 @@ data-theme>`` must then be that mode). In every view it checks that
   * every ``<img>`` in the article has an ``alt`` text and no ``alt`` is a file name or path;
   * every live widget canvas is shown at its bitmap's aspect ratio and its bitmap is its CSS
     size x devicePixelRatio (within 2 %: otherwise circles become ellipses or the canvas text
-    is scaled), and no ``to_jshtml`` player overflows its box or the column;
+    is scaled), its background matches the page's colour mode (a dark canvas on a dark page, a
+    light one on a light page), none of its plots is narrower than 250 CSS px (its
+    ``data-plots``: on a phone a live widget stacks its panels instead of shrinking them), and
+    no ``to_jshtml`` player overflows its box or the column;
+  * every live widget draws in the page's colour mode, and each of its sliders, moved with the
+    keyboard, changes its value, its number box and the canvas (``.ci/live_widgets_check.py``);
   * in the light views, the theme's buttons work when clicked with the mouse: on the phone ☰
     opens the site navigation and the page-contents button the page's contents; at 1280 px ☰
     collapses the primary sidebar (the main area gets wider) and a second click restores it;
@@ -27,8 +32,8 @@ data-theme>`` must then be that mode). In every view it checks that
 At 1280 px light it also checks that the figures are readable (no figure or player image
 shrunk below its own size or wider than the column; ``probrob.plotting.use_book_style`` sizes
 figures for the column), that every ``to_jshtml`` player changes its frame on "Next frame" and
-on "Play", and that every live widget redraws when two of its sliders are moved with the
-keyboard, within its time and size budgets (``.ci/live_widgets_check.py``).
+on "Play", and that every live widget updates within its time budget and its HTML within its
+size budget (``.ci/live_widgets_check.py``).
 Screenshots go to ``_build/screenshots/``: ``<page>.png`` (the whole page at 1280 px light,
 continued in ``<page>-2.png``, ... past ``--max-shot-height``) and the first screen of the
 other views, ``<page>-dark.png``, ``<page>-390.png``, ``<page>-390-dark.png``.
@@ -283,16 +288,35 @@ JS_LAYOUT = r"""
     .filter((im) => fileAlt.test((im.getAttribute("alt") || "").trim()))
     .map((im) => im.getAttribute("alt").slice(0, 80));
 
-  // (e) live widget canvases: displayed aspect = the bitmap's, bitmap = CSS size x DPR
+  // (e) live widget canvases: displayed aspect = the bitmap's, bitmap = CSS size x DPR; the
+  // background (the bitmap's top-left pixel over the CSS background behind it) and the plots'
+  // sizes the widget lays out (data-plots, CSS px)
   const dpr = window.devicePixelRatio || 1;
+  const behind = (el) => {
+    for (let e = el; e; e = e.parentElement) {
+      const m = getComputedStyle(e).backgroundColor.match(/[\d.]+/g);
+      if (m && (m.length < 4 || Number(m[3]) > 0)) return m.slice(0, 3).map(Number);
+    }
+    return [255, 255, 255];
+  };
+  const background = (c) => {
+    let bg = behind(c);
+    try {
+      const px = c.getContext("2d").getImageData(0, 0, 1, 1).data;
+      bg = bg.map((b, i) => Math.round(px[i] * px[3] / 255 + b * (1 - px[3] / 255)));
+    } catch (e) {}
+    return bg;
+  };
   const canvases = Array.from(document.querySelectorAll(".probrob-live canvas, article canvas"))
     .filter((c, i, all) => all.indexOf(c) === i)
     .map((c) => {
       const r = c.getBoundingClientRect();
       const live = c.closest(".probrob-live");
+      let plots = null;
+      try { plots = JSON.parse(c.dataset.plots || "null"); } catch (e) { plots = "unreadable"; }
       return {id: (live && live.id) || describe(c), shown: r.width > 0 && r.height > 0,
               cssW: Math.round(r.width * 10) / 10, cssH: Math.round(r.height * 10) / 10,
-              bmpW: c.width, bmpH: c.height, dpr: dpr};
+              bmpW: c.width, bmpH: c.height, dpr: dpr, bg: background(c), plots: plots};
     });
 
   // (e) players (to_jshtml): the content inside its box and the box inside the column
@@ -659,7 +683,7 @@ def _check_view(
         if fig["unlabelled"]:
             f.add("accessibility", f"player sliders without a label {fig['unlabelled'][:5]}")
 
-    # Players clicked and live widgets moved: once per page, at the desktop light view
+    # Players clicked: once per page, at the desktop light view
     if view.full:
         check_players(p, info, f, tag)
         if notebook and info["players"] < args.min_players:
@@ -667,14 +691,15 @@ def _check_view(
                 "players",
                 f"{info['players']} to_jshtml players, expected >= {args.min_players}",
             )
-        if not_ready:
-            f.add("live-widget", f"{not_ready} live widgets not ready (no data-ready) after 10 s")
-        else:
-            live_lines, live_failures = check_live_widgets(p)
-            for line in live_lines:
-                print(f"{tag} {line}")
-            for x in live_failures:
-                f.add("live-widget", x)
+    # Live widgets: their mode and every slider in every view; time and size in the full one
+    if not_ready:
+        f.add("live-widget", f"{not_ready} live widgets not ready (no data-ready) after 10 s")
+    else:
+        live_lines, live_failures = check_live_widgets(p, full=view.full)
+        for line in live_lines:
+            print(f"{tag} {line}")
+        for x in live_failures:
+            f.add("live-widget", x)
 
     # Layout and rendering (every view), with every <details> opened
     opened = p.js(JS_OPEN_DETAILS)
@@ -706,7 +731,7 @@ def _check_view(
         f"({stats['eq_wide']} too wide, {stats['eq_scroll']} scroll in their box, "
         f"{stats['eq_hidden']} hidden); {lay['images']} images ({stats['bad_alt']} bad alts); "
         f"{stats['raw_tables']} raw tables; {stats['canvases']} canvases "
-        f"({stats['canvas_bad']} off size); {stats['players']} players "
+        f"({stats['canvas_bad']} failing); {stats['players']} players "
         f"({stats['players_over']} overflow); {opened} details opened; "
         f"axe {axe.get('version', '?')}: " + ", ".join(f"{a[k]} {k}" for k in IMPACTS)
     )
@@ -854,6 +879,7 @@ def check_layout(lay: dict, view: View, f: Findings, stats: dict) -> None:
                 f"(bitmap width must be round(CSS width x DPR) within 2 %)",
             )
             bad = True
+        bad |= check_canvas_page(c, view, f, desc)
         stats["canvas_bad"] += bad
     # (e) players: the content inside its box, the box inside the column
     stats["players"] = len(lay["players"])
@@ -881,6 +907,37 @@ def check_layout(lay: dict, view: View, f: Findings, stats: dict) -> None:
             f"<html data-theme> is {lay['theme']!r} (data-mode {lay['mode']!r}) on a first visit "
             f"with prefers-color-scheme: {view.mode}; expected {view.mode!r}",
         )
+
+
+#: The narrowest a live widget's plot may be, in CSS px (its runtime stacks panels and moves a
+#: colour bar or a legend below the plot rather than shrink the plot below it).
+MIN_PLOT_CSS_PX = 250
+
+
+def check_canvas_page(c: dict, view: View, f: Findings, desc: str) -> bool:
+    """A canvas against the page: its background in the view's colour mode (luminance below
+    half on a dark page, above on a light one) and its plots at least MIN_PLOT_CSS_PX wide."""
+    bad = False
+    if c.get("bg") is not None:
+        r, g, b = c["bg"]
+        mode = "dark" if 0.2126 * r + 0.7152 * g + 0.0722 * b < 128 else "light"
+        if mode != view.mode:
+            f.add(
+                "canvas-background",
+                f"{desc}: its background rgb({r}, {g}, {b}) is {mode} on a {view.mode} page",
+            )
+            bad = True
+    plots = c.get("plots")
+    if plots is not None:
+        widths = [p[0] for p in plots] if isinstance(plots, list) else []
+        if not widths or min(widths) < MIN_PLOT_CSS_PX:
+            f.add(
+                "plot-width",
+                f"{desc}: plots {plots} (width, height in CSS px): one is narrower than "
+                f"{MIN_PLOT_CSS_PX} px at a {view.width}-px viewport",
+            )
+            bad = True
+    return bad
 
 
 def check_toggles(p: Page, view: View, f: Findings, tag: str) -> None:
@@ -1051,6 +1108,8 @@ PLANTED = [
     ("alt-text", "images without alt text"),
     ("canvas-aspect", "probrob-live-planted"),
     ("canvas-scale", "probrob-live-planted"),
+    ("canvas-background", "probrob-live-planted"),
+    ("plot-width", "probrob-live-planted"),
     ("player-overflow", "player 1"),
     ("sidebar-toggle", "toggle"),
     ("colour-mode", "<html data-theme>"),

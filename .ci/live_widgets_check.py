@@ -1,8 +1,12 @@
-"""The browser check's part for live widgets (probrob._live), on one open page.
+"""The browser check's part for live widgets (probrob.live), on one open page, in one view.
 
-For every live widget on the page it
-  * moves two sliders with the keyboard (its first and its last, five steps each), as a reader
-    would, and asserts that the slider's value, its number box and the canvas change;
+In every view (both colour modes, desktop and phone) it checks, for every live widget on the
+page, that
+  * it started (``data-ready``) and draws in the page's colour mode (its hook's ``state().mode``
+    is ``<html data-theme>``, light if the page has none);
+  * every slider moves with the keyboard, as a reader would move it (five steps right, or left
+    from the slider's end), and that the slider's value, its number box and the canvas change.
+In the full view (1280 px, light) it also
   * times 100 updates (all particles + the density grid, drawn) with ``performance.now()`` in the
     page, through the widget's ``bench`` hook, and asserts the median is within the budget (up
     to three runs of 100 when the machine is busy; the best run counts);
@@ -11,9 +15,11 @@ The budgets are 16 ms and 200 kB unless the widget's block states its own
 (``data-update-budget`` in ms, ``data-size-budget`` in bytes): the live particle filter
 (``particle_filter_live``) states 400 kB, for the map and the stretch of the log it carries, and
 its ``bench`` times one filter step (Table 8.2 and the redraw) per update.
+The canvases' background against the page's mode and their plots' widths (no plot narrower
+than 250 CSS px) are checked with the page's layout (``.ci/browser_check.py``, JS_LAYOUT).
 Uncaught JavaScript errors are collected by the caller for the whole visit.
 
-Usage (from .ci/browser_check.py): ``lines, failures = check_live_widgets(page)``, where
+Usage (from .ci/browser_check.py): ``lines, failures = check_live_widgets(page, full)``, where
 ``page`` has ``js(expr)`` and ``send(method, params)`` (a DevTools session on the page).
 """
 
@@ -25,14 +31,19 @@ UPDATE_BUDGET_MS = 16.0
 SIZE_BUDGET_BYTES = 200_000
 
 JS_SURVEY = """
-Array.from(document.querySelectorAll(".probrob-live")).map((el) => ({
-  id: el.id,
-  ready: el.getAttribute("data-ready") === "true",
-  bytes: new TextEncoder().encode(el.outerHTML).length,
-  sizeBudget: Number(el.dataset.sizeBudget || 0),
-  updateBudget: Number(el.dataset.updateBudget || 0),
-  sliders: Array.from(el.querySelectorAll('input[type="range"]')).map((s) => s.dataset.param),
-}))
+Array.from(document.querySelectorAll(".probrob-live")).map((el) => {
+  const hook = (window.probrobLive ? probrobLive.widgets : []).find((h) => h.id === el.id);
+  return {
+    id: el.id,
+    ready: el.getAttribute("data-ready") === "true",
+    bytes: new TextEncoder().encode(el.outerHTML).length,
+    sizeBudget: Number(el.dataset.sizeBudget || 0),
+    updateBudget: Number(el.dataset.updateBudget || 0),
+    sliders: Array.from(el.querySelectorAll('input[type="range"]')).map((s) => s.dataset.param),
+    mode: hook ? hook.state().mode : null,
+    pageMode: document.documentElement.dataset.theme || "light",
+  };
+})
 """
 
 JS_CANVAS_HASH = """
@@ -49,7 +60,7 @@ JS_SLIDER = """
   const el = document.getElementById(%s);
   const r = el.querySelector('input[type="range"][data-param=' + JSON.stringify(%s) + ']');
   const n = el.querySelector('input[type="number"][data-param=' + JSON.stringify(%s) + ']');
-  return {range: r.value, number: n.value};
+  return {range: r.value, number: n.value, atMax: Number(r.value) >= Number(r.max)};
 })()
 """
 
@@ -82,57 +93,83 @@ def _press(page, key: str, code: int, times: int) -> None:
             )
 
 
-def check_live_widgets(page) -> tuple[list[str], list[str]]:
-    """Check every live widget on ``page``; return (lines to print, failures)."""
+def move_sliders(page, wid: str, sliders: list[str]) -> tuple[list[str], list[str]]:
+    """Move each slider of widget ``wid`` five steps with the keyboard; return (what moved,
+    the sliders that did not update the widget)."""
+    moved, stuck = [], []
+    for param in sliders:
+        p = json.dumps(param)
+        before = page.js(JS_SLIDER % (wid, p, p))
+        canvas = page.js(JS_CANVAS_HASH % wid)
+        if not page.js(JS_FOCUS % (wid, p)):
+            stuck.append(f"{param} (cannot take the keyboard focus)")
+            continue
+        if before["atMax"]:
+            _press(page, "ArrowLeft", 37, 5)
+        else:
+            _press(page, "ArrowRight", 39, 5)
+        page.js(JS_TWO_FRAMES)
+        after = page.js(JS_SLIDER % (wid, p, p))
+        redrawn = page.js(JS_CANVAS_HASH % wid) != canvas
+        if not (after["range"] != before["range"] and after["number"] == after["range"]):
+            stuck.append(f"{param} (its value or number box did not change)")
+        elif not redrawn:
+            stuck.append(f"{param} {before['range']} -> {after['range']} (canvas not redrawn)")
+        else:
+            moved.append(f"{param} {before['range']} -> {after['range']}")
+    return moved, stuck
+
+
+def _bench(page, wid: str, update_budget: float) -> dict:
+    # On a shared machine other work can slow a run down: up to three runs, the best counts
+    # (as timeit takes the minimum of its repeats).
+    runs = []
+    for _ in range(3):
+        runs.append(page.js(JS_BENCH % wid, timeout=120))
+        if runs[-1]["total"]["median"] <= update_budget:
+            break
+    bench = min(runs, key=lambda r: r["total"]["median"])
+    bench["runs"] = len(runs)
+    return bench
+
+
+def check_live_widgets(page, full: bool = True) -> tuple[list[str], list[str]]:
+    """Check every live widget on ``page``; with ``full``, also its update time and size.
+    Returns (lines to print, failures)."""
     lines: list[str] = []
     failures: list[str] = []
     for k, w in enumerate(page.js(JS_SURVEY)):
         name = f"live widget {k + 1} ({w['id']})"
-        size_budget = w["sizeBudget"] or SIZE_BUDGET_BYTES
-        update_budget = w["updateBudget"] or UPDATE_BUDGET_MS
         if not w["ready"]:
             failures.append(f"{name}: did not start (no data-ready)")
             continue
+        if w["mode"] != w["pageMode"]:
+            failures.append(f"{name}: drawn in {w['mode']} mode on a {w['pageMode']} page")
         wid = json.dumps(w["id"])
-        moved = []
-        for param in (w["sliders"][0], w["sliders"][-1]):
-            p = json.dumps(param)
-            before = page.js(JS_SLIDER % (wid, p, p))
-            canvas = page.js(JS_CANVAS_HASH % wid)
-            if not page.js(JS_FOCUS % (wid, p)):
-                failures.append(f"{name}: slider {param} cannot take the keyboard focus")
-                continue
-            _press(page, "ArrowRight", 39, 5)
-            page.js(JS_TWO_FRAMES)
-            after = page.js(JS_SLIDER % (wid, p, p))
-            redrawn = page.js(JS_CANVAS_HASH % wid) != canvas
-            ok = (
-                after["range"] != before["range"] and after["number"] == after["range"] and redrawn
-            )
-            moved.append(
-                f"{param} {before['range']} -> {after['range']} "
-                f"(canvas {'redrawn' if redrawn else 'NOT redrawn'})"
-            )
-            if not ok:
-                failures.append(f"{name}: moving {param} did not update the widget")
-        # On a shared machine other work can slow a run down: up to three runs, the best counts
-        # (as timeit takes the minimum of its repeats).
-        runs = []
-        for _ in range(3):
-            runs.append(page.js(JS_BENCH % wid, timeout=120))
-            if runs[-1]["total"]["median"] <= update_budget:
-                break
-        bench = min(runs, key=lambda r: r["total"]["median"])
-        total = bench["total"]
-        lines.append(
-            f"{name}: {w['bytes'] / 1000:.0f} kB; keyboard: {'; '.join(moved)}; update "
-            f"(particles + grid + drawing) median {total['median']:.1f} ms, 90th percentile "
-            f"{total['p90']:.1f} ms, max {total['max']:.1f} ms over {bench['count']} "
-            f"(compute {bench['compute']['median']:.1f} ms, draw {bench['draw']['median']:.1f} ms)"
-            + (f"; best of {len(runs)} runs" if len(runs) > 1 else "")
+        moved, stuck = move_sliders(page, wid, w["sliders"])
+        for s in stuck:
+            failures.append(f"{name}: moving slider {s}")
+        line = (
+            f"{name}: {w['mode']} mode; {len(moved)} of {len(w['sliders'])} sliders moved by "
+            f"the keyboard redraw it ({'; '.join(moved[:2])}{'; ...' if len(moved) > 2 else ''})"
         )
-        if w["bytes"] > size_budget:
-            failures.append(f"{name}: {w['bytes']} bytes of HTML > {size_budget}")
-        if total["median"] > update_budget:
-            failures.append(f"{name}: median update {total['median']:.1f} ms > {update_budget} ms")
+        if full:
+            size_budget = w["sizeBudget"] or SIZE_BUDGET_BYTES
+            update_budget = w["updateBudget"] or UPDATE_BUDGET_MS
+            bench = _bench(page, wid, update_budget)
+            total = bench["total"]
+            line += (
+                f"; {w['bytes'] / 1000:.0f} kB; update (particles + grid + drawing) median "
+                f"{total['median']:.1f} ms, 90th percentile {total['p90']:.1f} ms, max "
+                f"{total['max']:.1f} ms over {bench['count']} (compute "
+                f"{bench['compute']['median']:.1f} ms, draw {bench['draw']['median']:.1f} ms)"
+                + (f"; best of {bench['runs']} runs" if bench["runs"] > 1 else "")
+            )
+            if w["bytes"] > size_budget:
+                failures.append(f"{name}: {w['bytes']} bytes of HTML > {size_budget}")
+            if total["median"] > update_budget:
+                failures.append(
+                    f"{name}: median update {total['median']:.1f} ms > {update_budget} ms"
+                )
+        lines.append(line)
     return lines, failures

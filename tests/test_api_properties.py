@@ -78,7 +78,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-import probrob._live as live
+import probrob.live as live
 import probrob.angles as angles
 import probrob.datasets as datasets
 import probrob.distributions as distributions
@@ -316,7 +316,7 @@ def _seed_only(batch):
 
 SEED = Arg(_seed_only, 0, BAD_RNG)  # plotting keeps an int seed (every frame redraws it)
 
-# the live widgets' arguments (probrob._live: the ranges of their sliders)
+# the live widgets' arguments (probrob.live: the ranges of their sliders)
 LIVE_THETA = Arg(constant(0.0), 0.0, [(3.2, ValueError), *BAD_SCALAR])
 LIVE_DISTRIBUTION = Arg(choices("normal", "triangular"), "normal", BAD_CHOICE)
 LIVE_DENSITY = Arg(choices("xy", "pose", "book"), "xy", BAD_CHOICE)
@@ -552,7 +552,7 @@ API = [
         rng=SEED,
         examples=2,
     ),
-    # the draws embedded in the live widgets (probrob._live)
+    # the draws embedded in the live widgets (probrob.live)
     Api(live.standard_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
     Api(live.landmark_draws, "widget", n=COUNT_POSITIVE, rng=RNG, examples=3),
     Api(
@@ -1632,7 +1632,7 @@ API += [
         examples=5,
     ),
     Api(plotting.plot_particles, "plot", particles=PARTICLES, examples=5),
-    # the live particle filter (probrob._live.particle_filter_live, issue 16 item 6): every
+    # the live particle filter (probrob.live.particle_filter_live, issue 16 item 6): every
     # argument checked against its slider's range; a valid call builds the HTML of a two-step
     # widget on the small map (its JavaScript is held to probrob.mcl in tests/test_live_mcl.py)
     Api(live.particle_filter_draws, "widget", n_max=COUNT_POSITIVE, steps=COUNT_POSITIVE, rng=RNG),
@@ -1701,7 +1701,7 @@ API += [
 ]
 
 # the live widgets of issue 17: the Turkish lecture's two noise forms side by side and the CIR
-# report's step (probrob._live; their JavaScript is tested in test_live_widgets_tr_cir)
+# report's step (probrob.live; their JavaScript is tested in test_live_widgets_tr_cir)
 LIVE_PAIRING = Arg(choices("squared", "same"), "squared", BAD_CHOICE)
 LIVE_ARC = Arg(
     lambda batch: floats([-1.0, 0.0, 0.3, 0.6, 1.5], -1.0, 1.5),

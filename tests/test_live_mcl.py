@@ -1,7 +1,7 @@
-"""The live particle filter (probrob._live.particle_filter_live): its HTML, and its JavaScript
+"""The live particle filter (probrob.live.mcl.particle_filter_live): its HTML, and its JavaScript
 held equal to probrob.mcl.
 
-The page's JavaScript (``_live_assets/mcl.js``) is a second implementation of Table 8.2 with
+The page's JavaScript (``probrob/live/assets/mcl.js``) is a second implementation of Table 8.2 with
 the odometry sampler (Table 5.6), the likelihood field (Table 6.3, with its exact distance
 field) and the low-variance sampler (Table 4.4). The parity tests open the widget in headless
 Chromium (the driver of ``.ci/cdp.py``, as tests/test_live_widgets.py), set its sliders through
@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 from probrob import mcl as M
-from probrob._live import (
+from probrob.live.mcl import (
     PF_HEADING_BINS,
     PF_RADIUS,
     particle_filter_beams,
@@ -165,15 +165,16 @@ def test_widget_is_one_self_contained_accessible_block():
     survey = _Survey()
     survey.feed(html)
     assert survey.fetching == []
+    assert survey.controls == [] and survey.buttons == 0  # the runtime's, from the spec
     config = _config(widget)
     names = [s["name"] for s in config["sliders"]]
     assert names == ["t", "a1", "a2", "a3", "a4", "sigma", "zrand", "beams", "kappa", "n"]
-    assert len(survey.controls) == 2 * len(names) + 2  # slider + number box each, two menus
-    for control in survey.controls:
-        assert control.get("id") in survey.labels or control.get("aria-label"), control
+    assert all(p["label"] for p in config["sliders"] + config["choices"])
+    assert [c["name"] for c in config["choices"]] == ["start", "view"]
+    assert [a for a, _ in config["buttons"]] == ["step", "play", "start", "reset"]
+    assert config["status"] is True  # a status line, aria-live
+    assert [s["name"] for s in config["sliders"] if s.get("snap")] == ["t", "beams", "n"]
     assert len(survey.canvases) == 1 and survey.canvases[0].get("aria-label")
-    assert survey.buttons == 4  # step, play, to start, reset
-    assert 'aria-live="polite"' in html
     assert re.fullmatch(r"<probrob live widget: mcl model, \d+ kB of HTML>", repr(widget))
     # the budget the browser check holds it to is written on the block
     assert 'data-size-budget="400000"' in html and len(html.encode()) < 400_000
@@ -314,6 +315,7 @@ def page(browser, tmp_path_factory):
     body = "\n".join(w.html for w in widgets.values())
     path.write_text(f"<!doctype html><meta charset='utf-8'><body>{body}</body>", "utf-8")
     tab = cdp.Tab.open(b, path.as_uri())
+    tab.configs = [_config(w) for w in widgets.values()]
     tab.widgets = {name: (k, w) for k, (name, w) in enumerate(widgets.items())}
     tab.worlds = worlds
     yield tab
@@ -619,14 +621,13 @@ def _estimate_cases():
 def test_estimate_pose_in_javascript_is_probrobs(browser, tmp_path, name):
     """mcl.js's estimatePose equals probrob.mcl.estimate_pose on hand-made sets: the heading
     sectors, their wrap at ±π and the tie order (issue 23, item 2)."""
-    from probrob._live import _asset
+    from probrob.live.core import asset
 
     cdp, b = browser
     x = _estimate_cases()[name]
     page = tmp_path / "estimate.html"
-    script = "\n".join(
-        [_asset("live.js"), _asset("mcl.js"), "window.estimatePose = estimatePose;"]
-    )
+    kernel = [asset(name) for name in ("runtime.js", "draw.js", "maths.js", "mcl.js")]
+    script = "\n".join([*kernel, "window.estimatePose = estimatePose;"])
     page.write_text(f"<!doctype html><meta charset='utf-8'><script>{script}</script>", "utf-8")
     tab = cdp.Tab.open(b, page.as_uri())
     try:
@@ -639,3 +640,34 @@ def test_estimate_pose_in_javascript_is_probrobs(browser, tmp_path, name):
     est = M.estimate_pose(x, radius=PF_RADIUS, heading_bins=PF_HEADING_BINS)
     _close(np.array(js["pose"]), est.pose, name)
     assert js["fraction"] == pytest.approx(est.fraction, rel=TOL), name
+
+
+def _base():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "probrob_test_live_mcl_base", ROOT / "tests" / "test_live_widgets.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_controls_mode_and_width(page):
+    """The controls built from the spec (four buttons, a status line read aloud); the map in
+    the dark mode's colours; the plot at least 250 CSS px wide on a phone."""
+    base = _base()
+    base.assert_controls_built_from_the_spec(page, page.configs)
+    index, _ = page.widgets["room"]
+    try:
+        dark = page.js(base.JS_MODE % json.dumps("dark"))[index]
+        assert dark["mode"] == "dark" and base._luminance(dark["corner"]) < 60
+        assert "White: occupied" in dark["caption"] and "dark: free" in dark["caption"]
+    finally:
+        page.js(base.JS_MODE % "null")
+    try:
+        base.phone(page, True)
+        base.assert_plots_fit(page.js(base.JS_PLOTS % json.dumps(358)))
+    finally:
+        base.phone(page, False)
+        page.js(base.JS_PLOTS % "null")

@@ -1,4 +1,4 @@
-"""Live widgets (probrob._live): the HTML block, and its JavaScript held equal to probrob.
+"""Live widgets (probrob.live): the HTML block, and its JavaScript held equal to probrob.
 
 The JavaScript kernels are a second implementation of Tables 5.1, 5.3, 5.5 and 5.6. The parity
 tests open the widgets in headless Chromium (the DevTools-pipe driver of ``.ci/cdp.py``), set
@@ -21,12 +21,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from probrob._live import LiveWidget, landmark_draws, standard_draws
 from probrob.distributions import (
     prob_normal_distribution,
     prob_triangular_distribution,
     sample_normal_distribution,
 )
+from probrob.live import LiveWidget, landmark_draws, standard_draws
 from probrob.motion import (
     apply_odometry_deltas,
     motion_model_odometry,
@@ -100,16 +100,22 @@ def test_widget_is_one_small_self_contained_accessible_block(make):
     html = widget._repr_html_()
     assert len(html.encode()) <= 200_000, f"{len(html.encode())} bytes"
     assert "http:" not in html and "https:" not in html and "//cdn" not in html
-    survey = _Survey()
-    survey.feed(html)
-    assert survey.fetching == []  # no src/href: nothing loaded from anywhere
-    # a slider and a number box per numeric parameter, a menu per choice
-    assert len(survey.controls) == 2 * len(config["sliders"]) + len(config["choices"]) >= 3
-    for control in survey.controls:
-        assert control.get("id") in survey.labels or control.get("aria-label"), control
-    assert len(survey.canvases) == 1 and survey.canvases[0].get("aria-label")
-    assert "<script>" in html and "mountLiveWidget" in html
+    _assert_one_block(widget, config, min_parameters=2)
     assert re.fullmatch(r"<probrob live widget: \w+ model, \d+ kB of HTML>", repr(widget))
+
+
+def _assert_one_block(widget, config, min_parameters):
+    """One block that loads nothing, with a labelled canvas and a spec of labelled parameters
+    (the runtime builds the controls from it: ``test_controls_are_built_from_the_spec``)."""
+    survey = _Survey()
+    survey.feed(widget.html)
+    assert survey.fetching == []  # no src/href: nothing loaded from anywhere
+    assert survey.controls == []  # the controls are the runtime's, from the spec
+    parameters = config["sliders"] + config["choices"]
+    assert len(parameters) >= min_parameters
+    assert all(p["label"] for p in parameters)
+    assert len(survey.canvases) == 1 and survey.canvases[0].get("aria-label")
+    assert "<script>" in widget.html and "mountLiveWidget" in widget.html
 
 
 def test_widget_embeds_the_seeded_standardized_draws():
@@ -200,6 +206,7 @@ def page(browser, tmp_path_factory):
     body = "\n".join(w.html for w in widgets)
     path.write_text(f"<!doctype html><meta charset='utf-8'><body>{body}</body>", "utf-8")
     tab = cdp.Tab.open(b, path.as_uri())
+    tab.configs = [_config(w) for w in widgets]
     yield tab
     assert tab.exceptions() == []
     tab.close()
@@ -570,3 +577,192 @@ def test_number_box_menu_and_reset(page):
     assert out["clamped"] == [2.0, 2.0]
     assert out["chosen"] == "triangular"
     assert out["reset"] and out["shown"] == ["0.8", "normal"]
+
+
+# ------------------------------------------------------------------ the runtime: controls, mode, width
+
+JS_CONTROLS_SURVEY = """
+Array.from(document.querySelectorAll(".probrob-live")).map((el, k) => {
+  const controls = Array.from(el.querySelectorAll(".pl-controls input, .pl-controls select"));
+  const labelled = (c) => (c.labels && c.labels.length > 0) || !!c.getAttribute("aria-label");
+  return {
+    ranges: el.querySelectorAll("input[type=range]").length,
+    numbers: el.querySelectorAll("input[type=number]").length,
+    selects: Array.from(el.querySelectorAll("select")).map((s) => [s.dataset.param,
+      Array.from(s.options).map((o) => [o.value, o.textContent]),
+      s.value === probrobLive.widgets[k].values()[s.dataset.param]]),
+    labels: Array.from(el.querySelectorAll("label")).map((l) => l.textContent),
+    unlabelled: controls.filter((c) => !labelled(c)).map((c) => c.id),
+    ids: controls.map((c) => c.id),
+    buttons: Array.from(el.querySelectorAll("button")).map((b) => [b.dataset.action, b.hidden]),
+    status: el.querySelector(".pl-status[aria-live=polite]") !== null,
+  };
+})
+"""
+
+
+def assert_controls_built_from_the_spec(page, configs):
+    """Every widget's controls, as the runtime built them from its spec: a range slider and a
+    number box per slider, a menu per choice (its options and their texts), each labelled, ids
+    unique on the page, and the spec's buttons."""
+    survey = page.js(JS_CONTROLS_SURVEY)
+    assert len(survey) == len(configs)
+    ids = [i for w in survey for i in w["ids"]]
+    assert len(ids) == len(set(ids))
+    for w, config in zip(survey, configs, strict=True):
+        assert w["ranges"] == w["numbers"] == len(config["sliders"])
+        expected = [[c["name"], c["options"], True] for c in config["choices"]]  # value shown
+        assert w["selects"] == expected
+        assert w["labels"] == [p["label"] for p in config["sliders"] + config["choices"]]
+        assert w["unlabelled"] == []
+        assert [a for a, _ in w["buttons"]] == [a for a, _ in config["buttons"]]
+        assert w["status"] == bool(config.get("status"))
+    return survey
+
+
+def test_controls_are_built_from_the_spec(page):
+    survey = assert_controls_built_from_the_spec(page, page.configs)
+    # "fit view" is hidden where the axis follows the parameters (the curves)
+    assert [dict(w["buttons"])["fit"] for w in survey] == [False, False, False, True, True]
+
+
+JS_MODE = """
+(async (mode) => {
+  const frames = () => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
+  if (mode === null) delete document.documentElement.dataset.theme;
+  else document.documentElement.dataset.theme = mode;
+  await frames();
+  return Array.from(document.querySelectorAll(".probrob-live")).map((el, k) => {
+    const c = el.querySelector("canvas");
+    const px = c.getContext("2d").getImageData(1, 1, 1, 1).data;
+    return {mode: probrobLive.widgets[k].state().mode, dark: el.classList.contains("pl-dark"),
+            corner: Array.from(px.slice(0, 3)), block: getComputedStyle(el).backgroundColor,
+            caption: el.querySelector(".pl-caption").innerText};
+  });
+})(%s)
+"""
+
+
+def _luminance(rgb):
+    return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
+
+
+def test_widgets_follow_the_pages_colour_mode(page):
+    """The book's theme sets <html data-theme>: the canvases redraw on the mode's background
+    (no recomputation), the block takes the mode's colours, and a caption's colour words
+    follow (a white start arrow on a dark page is not called black)."""
+    try:
+        dark = page.js(JS_MODE % json.dumps("dark"))
+        light = page.js(JS_MODE % json.dumps("light"))
+        default = page.js(JS_MODE % "null")
+    finally:
+        page.js(JS_MODE % "null")
+    for d, lt, df in zip(dark, light, default, strict=True):
+        assert d["mode"] == "dark" and d["dark"] and _luminance(d["corner"]) < 60
+        assert lt["mode"] == "light" and not lt["dark"] and _luminance(lt["corner"]) > 240
+        assert df == lt  # no mode on the page: light
+        assert d["block"] != lt["block"]
+    assert (
+        "black arrow" in light[0]["caption"] and "darker is more probable" in light[0]["caption"]
+    )
+    assert "white arrow" in dark[0]["caption"] and "lighter is more probable" in dark[0]["caption"]
+    assert "black" not in dark[0]["caption"] and "lighter" not in light[0]["caption"]
+
+
+def test_jupyterlab_dark_theme(page):
+    """JupyterLab marks its theme on <body data-jp-theme-light>."""
+    try:
+        page.js("document.body.dataset.jpThemeLight = 'false'")
+        page.js("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+        assert page.js("probrobLive.widgets.map((w) => w.state().mode)") == ["dark"] * 5
+    finally:
+        page.js("delete document.body.dataset.jpThemeLight")
+    page.js("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    assert page.js("probrobLive.widgets.map((w) => w.state().mode)") == ["light"] * 5
+
+
+JS_PLOTS = """
+(async (width) => {
+  document.body.style.width = width ? width + "px" : "";
+  await new Promise(r => setTimeout(r, 50));
+  await new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
+  return Array.from(document.querySelectorAll(".probrob-live")).map((el, k) => {
+    const c = el.querySelector("canvas");
+    const r = c.getBoundingClientRect();
+    return {plots: probrobLive.widgets[k].state().plots, data: JSON.parse(c.dataset.plots),
+            css: [r.width, r.height], bitmap: [c.width, c.height], dpr: devicePixelRatio};
+  });
+})(%s)
+"""
+
+
+def assert_plots_fit(widgets, min_plot=250):
+    """Every plot at least ``min_plot`` CSS px wide; the bitmap is the CSS size times the DPR,
+    at the displayed aspect ratio; data-plots tells the plots' sizes."""
+    for w in widgets:
+        assert min(p[2] for p in w["plots"]) >= min_plot, w
+        assert [[round(p[2], 1), round(p[3], 1)] for p in w["plots"]] == w["data"]
+        css_w, css_h = w["css"]
+        assert (
+            abs(w["bitmap"][0] - css_w * w["dpr"]) <= 1
+            and abs(w["bitmap"][1] - css_h * w["dpr"]) <= 1
+        )
+        assert max(p[0] + p[2] for p in w["plots"]) <= css_w + 0.5
+
+
+def phone(page, on):
+    """A phone's viewport (390 x 844 CSS px at device pixel ratio 3), or the tab's own again."""
+    if on:
+        metrics = {"width": 390, "height": 844, "deviceScaleFactor": 3, "mobile": True}
+        page.send("Emulation.setDeviceMetricsOverride", metrics)
+    else:
+        page.send("Emulation.clearDeviceMetricsOverride")
+
+
+def test_plots_are_never_narrower_than_250_css_px(page):
+    """In the book's column on a phone (358 CSS px of a 390-px viewport, device pixel ratio 3)
+    and on a desktop (623 px), no plot is narrower than 250 CSS px: on the phone the colour bar
+    moves below the plot, and the canvas gets taller instead of the plot narrower."""
+    try:
+        phone(page, True)
+        narrow = page.js(JS_PLOTS % json.dumps(358))
+        assert_plots_fit(narrow)
+        assert all(w["dpr"] == 3 for w in narrow)
+        phone(page, False)
+        assert_plots_fit(page.js(JS_PLOTS % json.dumps(623)))
+    finally:
+        phone(page, False)
+        page.js(JS_PLOTS % "null")
+
+
+def test_the_browser_check_reports_a_canvas_off_the_pages_mode_and_a_narrow_plot():
+    """The browser check's two rules for live widget canvases (on the layout survey it makes in
+    every view; the built book's run is ``make browser-check``): a light background on a dark
+    page (or a dark one on a light page), and a plot narrower than 250 CSS px."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / ".ci"))
+    try:
+        bc = importlib.import_module("browser_check")
+    finally:
+        sys.path.remove(str(ROOT / ".ci"))
+
+    def classes(canvas, view):
+        f = bc.Findings(view)
+        bc.check_canvas_page(canvas, view, f, canvas["id"])
+        return [c for c, _ in f.items]
+
+    dark, phone = bc.View(1280, "dark"), bc.View(390, "light")
+    ok = {"id": "w", "bg": [28, 31, 36], "plots": [[266, 266], [266, 266]]}
+    assert classes(ok, dark) == []
+    assert classes(ok | {"bg": [255, 255, 255]}, dark) == ["canvas-background"]
+    assert classes(ok, phone) == ["canvas-background"]  # a dark canvas on a light page
+    light = ok | {"bg": [255, 255, 255]}
+    assert classes(light, phone) == []
+    assert classes(light | {"plots": [[266, 266], [69, 69]]}, phone) == ["plot-width"]
+    assert classes(light | {"plots": "unreadable"}, phone) == ["plot-width"]
+    assert classes({"id": "a canvas that is no widget's", "bg": None, "plots": None}, dark) == []
+    assert {
+        ("canvas-background", "probrob-live-planted"),
+        ("plot-width", "probrob-live-planted"),
+    } <= set(bc.PLANTED)

@@ -59,13 +59,8 @@ def test_widget_is_one_small_self_contained_accessible_block():
     html = widget._repr_html_()
     assert len(html.encode()) <= 200_000, f"{len(html.encode())} bytes"
     assert "http:" not in html and "https:" not in html and "//cdn" not in html
-    survey = _base._Survey()
-    survey.feed(html)
-    assert survey.fetching == []
-    assert len(survey.controls) == 2 * len(config["sliders"]) == 2 * 18
-    for control in survey.controls:
-        assert control.get("id") in survey.labels or control.get("aria-label"), control
-    assert len(survey.canvases) == 1 and survey.canvases[0].get("aria-label")
+    _base._assert_one_block(widget, config, min_parameters=18)
+    assert len(config["sliders"]) == 18 and config["choices"] == []
     assert config["constants"] == {"dt": DT, "p": P} and config["n"] == 0
 
 
@@ -94,6 +89,7 @@ def page(browser, tmp_path_factory):
     body = ekf_step_live().html
     path.write_text(f"<!doctype html><meta charset='utf-8'><body>{body}</body>", "utf-8")
     tab = cdp.Tab.open(b, path.as_uri())
+    tab.configs = [_base._config(ekf_step_live())]
     yield tab
     assert tab.exceptions() == []
     tab.close()
@@ -371,3 +367,29 @@ def test_parity_summary():
     for name, err in sorted(MAX_ERROR.items()):
         print(f"  {name:16s} {err:.3g}")
     assert max(e for k, e in MAX_ERROR.items() if "ms" not in k) <= RTOL
+
+
+def test_controls_mode_and_width(page):
+    """The controls built from the spec; the dark mode; the legend below the plot on a phone
+    (the plot keeps 250 CSS px and more), beside it on a desktop."""
+    _base.assert_controls_built_from_the_spec(page, page.configs)
+    try:
+        dark = page.js(_base.JS_MODE % json.dumps("dark"))[0]
+        assert dark["mode"] == "dark" and _base._luminance(dark["corner"]) < 60
+        assert "white square" in dark["caption"]
+    finally:
+        page.js(_base.JS_MODE % "null")
+    try:
+        _base.phone(page, True)
+        narrow = page.js(_base.JS_PLOTS % json.dumps(358))
+        _base.phone(page, False)
+        wide = page.js(_base.JS_PLOTS % json.dumps(623))
+    finally:
+        _base.phone(page, False)
+        page.js(_base.JS_PLOTS % "null")
+    _base.assert_plots_fit(narrow + wide)
+    # the legend: below the plot (a taller canvas) on the phone, beside it on the desktop
+    (_, _, w, _), (css_w, css_h) = narrow[0]["plots"][0], narrow[0]["css"]
+    assert css_h > css_w + 100 and w > 0.75 * css_w
+    (x, _, w, _), (css_w, _) = wide[0]["plots"][0], wide[0]["css"]
+    assert css_w - (x + w) > 100

@@ -21,7 +21,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from probrob._live import standard_draws
 from probrob.distributions import prob_normal_distribution, prob_triangular_distribution
 from probrob.kinematics import (
     cir_pose_matrix,
@@ -29,6 +28,7 @@ from probrob.kinematics import (
     cir_state_function,
     cir_step_transform,
 )
+from probrob.live import standard_draws
 from probrob.motion import (
     apply_odometry_deltas,
     motion_model_odometry,
@@ -69,25 +69,21 @@ def test_widget_is_one_small_self_contained_accessible_block(make):
     html = widget._repr_html_()
     assert len(html.encode()) <= 200_000, f"{len(html.encode())} bytes"
     assert "http:" not in html and "https:" not in html and "//cdn" not in html
-    survey = _base._Survey()
-    survey.feed(html)
-    assert survey.fetching == []
-    assert len(survey.controls) == 2 * len(config["sliders"]) + len(config["choices"]) >= 8
-    for control in survey.controls:
-        assert control.get("id") in survey.labels or control.get("aria-label"), control
-    assert len(survey.canvases) == 1 and survey.canvases[0].get("aria-label")
+    _base._assert_one_block(widget, config, min_parameters=4)
 
 
 def test_one_implementation_per_model():
     """The forms widgets inline the motion kernels' own files, not a second copy of them."""
-    from probrob._live import _asset
+    from probrob.live.core import inlined
 
     for make, base in [
         (velocity_noise_forms_live, "velocity"),
         (odometry_noise_forms_live, "odometry"),
     ]:
         html = make().html
-        assert html.count(_asset(f"{base}.js")) == 1 and html.count(_asset("noise_forms.js")) == 1
+        assert (
+            html.count(inlined(f"{base}.js")) == 1 and html.count(inlined("noise_forms.js")) == 1
+        )
         assert html.count(f"kernels.{base} = {{") == 1
 
 
@@ -122,6 +118,7 @@ def page(browser, tmp_path_factory):
     body = "\n".join(w.html for w in widgets)
     path.write_text(f"<!doctype html><meta charset='utf-8'><body>{body}</body>", "utf-8")
     tab = cdp.Tab.open(b, path.as_uri())
+    tab.configs = [_base._config(w) for w in widgets]
     yield tab
     assert tab.exceptions() == []
     tab.close()
@@ -402,3 +399,35 @@ def test_widgets_update_within_the_budget(page):
     for index in range(3):
         bench = page.js(f"probrobLive.widgets[{index}].bench(30)", timeout=120)
         assert bench["total"]["median"] < 4 * 16.0, (index, bench)
+
+
+def test_controls_and_dark_mode(page):
+    _base.assert_controls_built_from_the_spec(page, page.configs)
+    try:
+        dark = page.js(_base.JS_MODE % json.dumps("dark"))
+    finally:
+        page.js(_base.JS_MODE % "null")
+    for w in dark:
+        assert w["mode"] == "dark" and _base._luminance(w["corner"]) < 60
+    assert "white arrow" in dark[0]["caption"] and "white: after" in dark[2]["caption"]
+
+
+def test_two_panels_stack_on_a_phone(page):
+    """The Turkish lecture's two noise forms: side by side on a desktop column (each plot at
+    least 250 CSS px), one above the other on a phone instead of two plots of 69 px; the CIR
+    step's legend moves below its plot there."""
+    try:
+        _base.phone(page, True)
+        narrow = page.js(_base.JS_PLOTS % json.dumps(358))
+        _base.phone(page, False)
+        wide = page.js(_base.JS_PLOTS % json.dumps(623))
+    finally:
+        _base.phone(page, False)
+        page.js(_base.JS_PLOTS % "null")
+    _base.assert_plots_fit(narrow + wide)
+    for k in (0, 1):
+        (x0, y0, w0, _), (x1, y1, w1, _) = narrow[k]["plots"]
+        assert x0 == x1 and y1 > y0 + w0 and w0 == w1  # stacked, as wide as each other
+        (x0, y0, w0, _), (x1, y1, _, _) = wide[k]["plots"]
+        assert y0 == y1 and x1 > x0 + w0  # side by side
+    assert narrow[2]["css"][1] > narrow[2]["css"][0] + 100  # the CIR's legend below its plot

@@ -407,12 +407,12 @@ def test_parameter_player_and_em_check_their_flags():
 
 
 def test_live_widget_constants_must_be_numbers():
-    from probrob import _live
+    from probrob import live
 
     with pytest.raises(ValueError, match=r"constants\['zmax'\] must be a number"):
-        _live.live_widget(
+        live.live_widget(
             "beam",
-            [_live.Slider("a", "a", 0.1, 0.0, 1.0, 0.1)],
+            [live.Slider("a", "a", 0.1, 0.0, 1.0, 0.1)],
             title="t",
             caption="c",
             aria_label="l",

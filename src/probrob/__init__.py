@@ -19,8 +19,10 @@ The module map (each module holds one kind of thing; its docstring says what it 
 * :mod:`probrob.simulation` — simulated landmark worlds and runs;
 * :mod:`probrob.datasets` — the loaders of the real recordings;
 * :mod:`probrob.angles` — angle wrapping, differences and circular means;
-* :mod:`probrob.plotting`, :mod:`probrob.widgets` — figures, sliders and players
-  (``probrob._live``: the widgets that recompute in the browser);
+* :mod:`probrob.plotting`, :mod:`probrob.widgets` — figures, sliders and players;
+* :mod:`probrob.live` — the live widgets that recompute a table in the browser: one module
+  per family (motion, sensors, kinematics, localization, mcl), a core, one JavaScript kernel
+  per table on one runtime (re-exported by :mod:`probrob.widgets`);
 * :mod:`probrob.prose` — numbers for the prose; :mod:`probrob.exercises` — exercise checks;
 * ``probrob._validation`` — the one layer of argument checks.
 """

@@ -22,6 +22,9 @@ Does not hold the models or figures they show (:mod:`probrob.motion`, :mod:`prob
 
 * :func:`alpha_player` — its thin case for the motion models: sweeps one
   :math:`\alpha` of :func:`probrob.plotting.plot_motion_model`.
+* the live widgets (``velocity_model_live``, ..., ``particle_filter_live``): kernel-free
+  sliders that recompute a table in the reader's browser, made by :mod:`probrob.live` and
+  re-exported here, the names the chapters call.
 
 The callbacks are thin: they call :func:`probrob.plotting.plot_motion_model`, which
 calls the models. ``ipywidgets`` and ``IPython`` are imported only when used.
@@ -37,13 +40,38 @@ from pathlib import Path
 import numpy as np
 
 from . import _validation as check
+from .live import (
+    beam_model_live,
+    cir_step_live,
+    distribution_live,
+    ekf_step_live,
+    landmark_model_live,
+    live_widget,
+    odometry_model_live,
+    odometry_noise_forms_live,
+    particle_filter_live,
+    velocity_model_live,
+    velocity_noise_forms_live,
+)
 from .plotting import DISTRIBUTIONS, motion_extent, motion_samples, plot_motion_model
 
+# with the live widgets of probrob.live (live_widget and the *_live names), re-exported
 __all__ = [
     "alpha_player",
+    "beam_model_live",
+    "cir_step_live",
+    "distribution_live",
+    "ekf_step_live",
+    "landmark_model_live",
+    "live_widget",
     "odometry_model_explorer",
+    "odometry_model_live",
+    "odometry_noise_forms_live",
     "parameter_player",
+    "particle_filter_live",
     "velocity_model_explorer",
+    "velocity_model_live",
+    "velocity_noise_forms_live",
 ]
 
 _CDN_STYLESHEET = re.compile(r"<link\s+rel=\"stylesheet\"\s+href=\"https?://[^\"]*\"\s*/?>")
@@ -508,163 +536,3 @@ def alpha_player(
             f"{values[0]:.3g} to {values[-1]:.3g} in {len(values)} frames"
         ),
     )
-
-
-# ---- live widgets: kernel-free, recomputed in the reader's browser (probrob._live, where the
-# generic pieces for a new widget live: Slider, Choice, LiveWidget, standard_draws) ----------
-from ._live import (  # noqa: E402
-    beam_model_live,
-    distribution_live,
-    landmark_model_live,
-    live_widget,
-    odometry_model_live,
-    particle_filter_live,
-    velocity_model_live,
-)
-
-__all__ += [
-    "beam_model_live",
-    "distribution_live",
-    "landmark_model_live",
-    "live_widget",
-    "odometry_model_live",
-    "particle_filter_live",
-    "velocity_model_live",
-]
-
-# ---- live widgets of the Turkish lecture's noise forms and the CIR report's step (issue 17) ----
-from ._live import (  # noqa: E402
-    cir_step_live,
-    odometry_noise_forms_live,
-    velocity_noise_forms_live,
-)
-
-__all__ += ["cir_step_live", "odometry_noise_forms_live", "velocity_noise_forms_live"]
-
-# ---- live widget of one EKF step of Trabalho 5 (issue 17): kernel ekf.js -------------------
-from ._live import Slider, _alpha_sliders  # noqa: E402
-
-
-def _vector(value, name, n, what):
-    arr = check.finite(value, name)
-    if arr.shape != (n,):
-        raise ValueError(f"{name} must hold {n} values ({what}), got shape {arr.shape}")
-    return arr
-
-
-def ekf_step_live(
-    *,
-    mu=(0.0, 0.0, 0.0),
-    prior_std=(0.15, 0.3, 0.1),
-    u=(1.0, 0.4),
-    dt=1.0,
-    alpha=(0.05, 0.01, 0.01, 0.05),
-    sigmas=(0.1, 0.05),
-    landmark=(2.5, 1.5),
-    innovation=(0.15, -0.04),
-    p=0.95,
-):
-    r"""Return a live widget of one step of EKF localization with known correspondences (Table 7.2).
-
-    Sliders for the prior :math:`\mu_{t-1} = (x, y, \theta)` and its standard deviations
-    (:math:`\Sigma_{t-1} = \mathrm{diag}(\sigma_x^2, \sigma_y^2, \sigma_\theta^2)`), the control
-    :math:`u_t = (v, \omega)`, :math:`\alpha_1 \ldots \alpha_4` (the variances of
-    :math:`M_t`), the landmark :math:`m_j = (m_{j,x}, m_{j,y})`, :math:`\sigma_r, \sigma_\phi`
-    and the measurement, given as its difference from the prediction: the page measures
-    :math:`z = (\max(0, \hat r + \Delta r),\ \mathrm{wrap}(\hat\phi + \Delta\phi))` with
-    :math:`\hat z = (\hat r, \hat\phi) = h(\bar\mu_t, m_j)`. It computes the step as
-    :func:`~probrob.localization.ekf_localization_known_correspondences` does (lines 2–7: the
-    velocity model's :math:`g, G_t, V_t, M_t`; lines 11–21 for the one range–bearing feature:
-    :math:`\hat z, H, S, K`, :math:`\mu_t, \Sigma_t` and :math:`\log p(z_t)`) and draws the
-    ``p``-probability ellipses of :func:`~probrob.evaluation.covariance_ellipse` of the prior,
-    the prediction and the posterior, their means with their headings, the landmark and the
-    measured point. ``tests/test_live_widgets_t5.py`` holds the page's numbers equal to the
-    library's in Chromium.
-
-    Parameters
-    ----------
-    mu : array_like, shape (3,)
-        Prior mean: x, y in [-3, 3] m, θ in [-3.14, 3.14] rad.
-    prior_std : array_like, shape (3,)
-        :math:`(\sigma_x, \sigma_y)` in [0.01, 1] m and :math:`\sigma_\theta` in [0.01, 1] rad.
-    u : array_like, shape (2,)
-        :math:`(v, \omega)`, each in [-2, 2] (m/s, rad/s).
-    dt : float
-        The step's :math:`\Delta t` in (0, 3] s (fixed, not a slider).
-    alpha : array_like, shape (4,)
-        :math:`\alpha_1 \ldots \alpha_4`, each in [0, 0.5].
-    sigmas : array_like, shape (2,)
-        :math:`\sigma_r` in [0.01, 1] m, :math:`\sigma_\phi` in [0.005, 0.5] rad.
-    landmark : array_like, shape (2,)
-        The landmark's position, each coordinate in [-5, 5] m.
-    innovation : array_like, shape (2,)
-        :math:`(\Delta r, \Delta\phi)`: :math:`\Delta r` in [-1, 1] m, :math:`\Delta\phi` in
-        [-0.5, 0.5] rad.
-    p : float
-        Probability of the ellipses, in (0, 1).
-
-    Returns
-    -------
-    widget : LiveWidget
-    """
-    mu = _vector(mu, "mu", 3, "x, y, theta")
-    prior_std = _vector(prior_std, "prior_std", 3, "sigma_x, sigma_y, sigma_theta")
-    u = _vector(u, "u", 2, "v, omega")
-    dt = check.in_range(check.positive_scalar(dt, "dt"), "dt", 0.0, 3.0)
-    sigmas = _vector(sigmas, "sigmas", 2, "sigma_r, sigma_phi")
-    landmark = _vector(landmark, "landmark", 2, "x, y")
-    innovation = _vector(innovation, "innovation", 2, "delta_r, delta_phi")
-    p = check.finite(p, "p")
-    if p.ndim != 0 or not 0.0 < p < 1.0:
-        raise ValueError(f"p must be a probability in (0, 1), got {p!r}")
-
-    def slider(name, label, value, what, lo, hi, step):
-        return Slider(name, label, check.in_range(value, what, lo, hi), lo, hi, step)
-
-    sliders = [
-        slider("x0", "μ x [m]", mu[0], "mu[0]", -3.0, 3.0, 0.01),
-        slider("y0", "μ y [m]", mu[1], "mu[1]", -3.0, 3.0, 0.01),
-        slider("th0", "μ θ [rad]", mu[2], "mu[2]", -3.14, 3.14, 0.01),
-        slider("sx", "σx prior [m]", prior_std[0], "prior_std[0]", 0.01, 1.0, 0.005),
-        slider("sy", "σy prior [m]", prior_std[1], "prior_std[1]", 0.01, 1.0, 0.005),
-        slider("sth", "σθ prior [rad]", prior_std[2], "prior_std[2]", 0.01, 1.0, 0.005),
-        slider("v", "v [m/s]", u[0], "u[0]", -2.0, 2.0, 0.01),
-        slider("w", "ω [rad/s]", u[1], "u[1]", -2.0, 2.0, 0.01),
-        *_alpha_sliders(alpha, 4),
-        slider("mx", "landmark x [m]", landmark[0], "landmark[0]", -5.0, 5.0, 0.01),
-        slider("my", "landmark y [m]", landmark[1], "landmark[1]", -5.0, 5.0, 0.01),
-        slider("sr", "σr [m]", sigmas[0], "sigmas[0]", 0.01, 1.0, 0.005),
-        slider("sphi", "σφ [rad]", sigmas[1], "sigmas[1]", 0.005, 0.5, 0.005),
-        slider("dr", "z_r − r̂ [m]", innovation[0], "innovation[0]", -1.0, 1.0, 0.01),
-        slider("dphi", "z_φ − φ̂ [rad]", innovation[1], "innovation[1]", -0.5, 0.5, 0.005),
-    ]
-    pct = f"{100 * float(p):g} %"
-    return live_widget(
-        "ekf",
-        sliders,
-        title="One EKF localization step (Table 7.2)",
-        caption=(
-            f"The {pct} position ellipses (covariance_ellipse) of the prior μ, Σ (grey, "
-            "dashed), of the prediction μ̄, Σ̄ after the control u with the velocity model's "
-            "noise M (orange, lines 2–7) and of the posterior after one range–bearing "
-            "measurement of the landmark (black square) (blue, lines 8–20); dots with ticks: "
-            "the means and their headings. Thin dotted line: the line of sight from μ̄ to the "
-            "landmark, the prediction ẑ = (r̂, φ̂); red dashed line and ×: the measurement z "
-            "= ẑ + (z_r − r̂, z_φ − φ̂) seen from μ̄. Right: ẑ, z, the wrapped innovation ν "
-            f"and log p(z) of line 21. Δt = {float(dt):g} s. The view grows with the "
-            "ellipses; “fit view” zooms back in."
-        ),
-        aria_label=(
-            "Plot in the x-y plane of one EKF localization step: the prior, predicted and "
-            f"posterior {pct} covariance ellipses with their means and headings, a landmark, "
-            "and the measured range and bearing drawn from the predicted mean."
-        ),
-        draws={},
-        constants={"dt": float(dt), "p": float(p)},
-        n_particles=0,
-        width=620,
-        height=500,
-    )
-
-
-__all__ += ["ekf_step_live"]

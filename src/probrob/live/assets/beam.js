@@ -1,5 +1,6 @@
-// Beam model kernel (kind "curve"): p(z | z*) of Table 6.1, lines 5-6, the mixture of
-// probrob.sensors.beam_mixture over [0, z_max), held equal to it by tests/test_live_widgets.py.
+// Kernel of Table 6.1, lines 5-6 (kind "curve"): the beam model's p(z | z*), the mixture of
+// probrob.sensors.beam_mixture over [0, z_max), written as the library writes it and held equal
+// to it by tests/test_live_widgets.py. Widget: probrob.live.sensors.beam_model_live.
 // Parameters: zstar [m], the weights whit, wshort, wmax, wrand (normalised by their sum, as the
 // title shows), sigma [m], lambda [1/m]; constant zmax [m] (the sensor's maximum range). The
 // point mass of p_max at z = z_max (its weight in the title) is not part of the curve.

@@ -1,8 +1,10 @@
-// Velocity motion model kernel: Table 5.3 (sampler) and Table 5.1 (density), written as
-// probrob.motion writes them (chord form of the arc, the circle found in the robot's frame),
-// so that tests/test_live_widgets.py can hold the two implementations equal to 1e-9.
-// Parameters: v [m/s], w [rad/s], dt [s], theta (start heading) [rad], a1..a6,
-// noise ("variance" | "std"), distribution, density ("xy" | "pose" | "book").
+// Kernel of Tables 5.1 and 5.3, the velocity motion model: the sampler of Table 5.3 and the
+// density of Table 5.1, written as probrob.motion writes them (sample_motion_model_velocity and
+// motion_model_velocity: the chord form of the arc, the circle found in the robot's frame) and
+// held equal to them to 1e-9 by tests/test_live_widgets.py. Widget: probrob.live.motion.
+// velocity_model_live (kind "cloud"). Parameters: v [m/s], w [rad/s], dt [s], theta (the start
+// heading) [rad], a1..a6, noise ("variance" | "std"), distribution, density ("xy" | "pose" |
+// "book").
 kernels.velocity = {
   variances(p) {
     return [
@@ -10,16 +12,6 @@ kernels.velocity = {
       noiseVariance(p.noise, p.a3, p.v, p.a4, p.w),
       noiseVariance(p.noise, p.a5, p.v, p.a6, p.w),
     ];
-  },
-  markers(p) {
-    const e = this.end(p);
-    return [
-      { x: 0, y: 0, theta: p.theta, color: "#000" }, // the start pose
-      { x: e[0], y: e[1], theta: e[2], color: "#1f77b4" }, // the noise-free end pose
-    ];
-  },
-  heading(p) {
-    return this.end(p)[2];
   },
   end(p) {
     // velocity_motion: the chord form, exact at w = 0
@@ -48,6 +40,7 @@ kernels.velocity = {
   },
   density(p, xs, ys, thetaHyp, out) {
     const [varV, varW, varG] = this.variances(p);
+    const logProb = logProbOf(p);
     const dt = p.dt;
     const th = p.theta;
     const c = Math.cos(th);
@@ -76,10 +69,10 @@ kernels.velocity = {
         const wHat = half * (2 / dt);
         const gamma = wrapAngle(thn - th - 2 * half) / dt;
         // Table 5.1 in log space, as probrob.motion.motion_model_velocity
-        const lv = p.logProb(p.v - vHat, varV);
-        const lw = p.logProb(p.w - wHat, varW);
+        const lv = logProb(p.v - vHat, varV);
+        const lw = logProb(p.w - wHat, varW);
         // "xy": the factor of γ̂ integrates to Δt over θ′, one Δt of the Jacobian
-        let total = xy ? logProduct(lv, lw) : logProduct(lv, lw, p.logProb(gamma, varG));
+        let total = xy ? logProduct(lv, lw) : logProduct(lv, lw, logProb(gamma, varG));
         if (p.density !== "book") {
           let logJac = Math.log(Math.abs(vHat));
           logJac += 2 * Math.log(sinc(half)) + (Math.log(0.5) + (xy ? 3 : 4) * Math.log(dt));
@@ -96,9 +89,5 @@ kernels.velocity = {
       " rad/s, Δt = " + p.dt.toFixed(2) + " s"
     );
   },
-  densityLabel(p) {
-    if (p.density === "xy") return "density over (x′, y′) [1/m²]";
-    if (p.density === "pose") return "density at θ′ of the blue arrow [1/(m² rad)]";
-    return "Table 5.1 value at θ′ of the blue arrow";
-  },
+  densityLabel: (p) => motionDensityLabel(p, "Table 5.1"),
 };

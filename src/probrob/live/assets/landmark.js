@@ -1,12 +1,15 @@
-// Landmark model kernel: Table 6.5 (poses from one feature) and Table 6.4 (the likelihood of the
-// feature over the robot's position at a fixed heading), written as probrob.sensors writes them,
-// held equal to it by tests/test_live_widgets.py.
-// Parameters: r [m], phi [rad], s (the feature), sr, sphi, ss (standard deviations), theta (the
-// heading of the likelihood image) [rad]; constants mx, my, ms (the landmark j, from Python).
-// Draws: "normal" (rows 0, 1: the range and bearing noise) and "gamma" (γ̂ = rand(0, 2π)).
+// Kernel of Tables 6.4 and 6.5, the landmark model: poses from one feature (Table 6.5,
+// probrob.sensors.sample_landmark_model_known_correspondence) and the likelihood of the feature
+// over the robot's position at a fixed heading (Table 6.4,
+// probrob.sensors.landmark_model_known_correspondence), written as the library writes them and
+// held equal to it by tests/test_live_widgets.py. Widget: probrob.live.sensors.
+// landmark_model_live (kind "cloud"). Parameters: r [m], phi [rad], s (the feature), sr, sphi,
+// ss (standard deviations), theta (the heading of the likelihood image) [rad]; constants mx,
+// my, ms (the landmark j). Draws: "normal" (rows 0, 1: the range and bearing noise) and "gamma"
+// (γ̂ = rand(0, 2π)).
 kernels.landmark = {
   markers(p) {
-    return [{ x: p.mx, y: p.my, theta: null, color: "#1f77b4" }];
+    return [{ x: p.mx, y: p.my, theta: null, color: "blue" }];
   },
   heading(p) {
     return p.theta;

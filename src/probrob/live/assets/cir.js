@@ -1,10 +1,11 @@
-// CIR report kernel (deck 003, eqs. 2-8): one step of a differential drive about its centre of
-// instantaneous rotation, written as probrob.kinematics writes it (cir_radius_angle,
-// cir_step_transform as the literal product of three matrices, cir_state_function), held equal
-// to it by tests/test_live_widgets_tr_cir.py. The report's convention: the heading θ is
-// clockwise (the robot faces (cos θ, -sin θ)), α > 0 is a right turn.
-// Parameters: ssx, sdx (left and right wheel arc lengths) [m], l (wheel base) [m], theta (the
-// start heading) [rad]; the robot starts at the origin. kind: "scene" (no samples, no density).
+// Kernel of the CIR report (deck 003, eqs. 2-8): one step of a differential drive about its
+// centre of instantaneous rotation, written as probrob.kinematics writes it (cir_radius_angle,
+// cir_step_transform as the literal product of three matrices, cir_state_function) and held
+// equal to it by tests/test_live_widgets_tr_cir.py. Widget: probrob.live.kinematics.
+// cir_step_live (kind "scene"). The report's convention: the heading θ is clockwise (the robot
+// faces (cos θ, -sin θ)), α > 0 is a right turn. Parameters: ssx, sdx (left and right wheel arc
+// lengths) [m], l (wheel base) [m], theta (the start heading) [rad]; the robot starts at the
+// origin.
 
 // probrob.kinematics._translation, _deck_rotation and a 3 × 3 product (row-major arrays)
 function cirTranslation(tx, ty) {
@@ -91,92 +92,44 @@ kernels.cir = {
       points,
     };
   },
-  drawScene(ctx, p, v, sx, sy, box) {
+  drawScene(ctx, p, v, { sx, sy, theme }) {
     const K = CIR_PATH;
-    const line = (pts, color, width, dash) => {
-      ctx.strokeStyle = color;
-      ctx.lineWidth = width;
-      ctx.setLineDash(dash || []);
-      ctx.beginPath();
-      for (let k = 0; k < pts.length; k++) {
-        if (k === 0) ctx.moveTo(sx(pts[k][0]), sy(pts[k][1]));
-        else ctx.lineTo(sx(pts[k][0]), sy(pts[k][1]));
-      }
-      ctx.stroke();
-      ctx.setLineDash([]);
-    };
+    const path = (pts) => pts.map((q) => [sx(q[0]), sy(q[1])]);
     const pts = (arr, dim) => Array.from({ length: K }, (_, k) => [arr[dim * k], arr[dim * k + 1]]);
-    const finite = Number.isFinite(v.r);
-    ctx.save();
-    ctx.beginPath();
-    ctx.rect(box.left, box.top, box.size, box.size);
-    ctx.clip();
     // the radius: from the CIR to the middle of the axle, before and after
-    if (finite) {
-      for (const k of [0, K - 1]) line([v.cir, [v.mid[3 * k], v.mid[3 * k + 1]]], "#d62728", 1);
+    if (Number.isFinite(v.r)) {
+      for (const k of [0, K - 1]) polyline(ctx, path([v.cir, [v.mid[3 * k], v.mid[3 * k + 1]]]), theme.red, 1);
     }
-    line(pts(v.left, 2), "#2ca02c", 2.5);
-    line(pts(v.right, 2), "#ff7f0e", 2.5);
-    line(pts(v.mid, 3), "#000", 1, [5, 4]);
-    // the robot before (grey) and after (black): axle and heading (clockwise θ)
-    for (const [k, color] of [[0, "#999"], [K - 1, "#000"]]) {
-      line([[v.left[2 * k], v.left[2 * k + 1]], [v.right[2 * k], v.right[2 * k + 1]]], color, 4);
-      const x = v.mid[3 * k];
-      const y = v.mid[3 * k + 1];
-      const th = v.mid[3 * k + 2];
-      const x1 = sx(x + 0.25 * Math.cos(th));
-      const y1 = sy(y - 0.25 * Math.sin(th));
-      line([[x, y], [x + 0.25 * Math.cos(th), y - 0.25 * Math.sin(th)]], color, 2);
-      const a = Math.atan2(y1 - sy(y), x1 - sx(x));
-      ctx.fillStyle = color;
-      ctx.beginPath();
-      ctx.moveTo(x1, y1);
-      ctx.lineTo(x1 - 9 * Math.cos(a - 0.4), y1 - 9 * Math.sin(a - 0.4));
-      ctx.lineTo(x1 - 9 * Math.cos(a + 0.4), y1 - 9 * Math.sin(a + 0.4));
-      ctx.closePath();
-      ctx.fill();
+    polyline(ctx, path(pts(v.left, 2)), theme.green, 2.5);
+    polyline(ctx, path(pts(v.right, 2)), theme.orange, 2.5);
+    polyline(ctx, path(pts(v.mid, 3)), theme.fg, 1, [5, 4]);
+    // the robot before (grey) and after (the foreground colour): axle and heading (clockwise θ)
+    for (const [k, color] of [[0, theme.muted], [K - 1, theme.fg]]) {
+      polyline(ctx, path([[v.left[2 * k], v.left[2 * k + 1]], [v.right[2 * k], v.right[2 * k + 1]]]), color, 4);
+      const [x, y, th] = v.mid.subarray(3 * k, 3 * k + 3);
+      arrow(ctx, sx(x), sy(y), sx(x + 0.25 * Math.cos(th)), sy(y - 0.25 * Math.sin(th)), color, 2, 9, 0);
     }
-    if (finite) {
-      const X = sx(v.cir[0]);
-      const Y = sy(v.cir[1]);
-      ctx.strokeStyle = "#d62728";
-      ctx.lineWidth = 2.5;
-      ctx.beginPath();
-      ctx.moveTo(X - 6, Y - 6);
-      ctx.lineTo(X + 6, Y + 6);
-      ctx.moveTo(X - 6, Y + 6);
-      ctx.lineTo(X + 6, Y - 6);
-      ctx.stroke();
-    }
-    ctx.restore();
-    // legend, right of the plot
-    const x0 = box.left + box.size + 10;
-    let y = box.top + 6;
-    ctx.font = "12px sans-serif";
-    ctx.textAlign = "left";
-    ctx.textBaseline = "middle";
-    const text = (s, color) => {
-      ctx.fillStyle = color || "#000";
-      ctx.fillText(s, x0, y);
-      y += 17;
-    };
+    if (Number.isFinite(v.r)) cross(ctx, sx(v.cir[0]), sy(v.cir[1]), theme.red);
+  },
+  legendRows: 6,
+  legend(p, v, theme) {
     const fmt = (x) => (Math.abs(x) >= 1e4 ? x.toExponential(1) : x.toFixed(2));
-    if (finite) {
-      text("r = " + fmt(v.r) + " m");
-      text("ρ = " + fmt(v.rho) + " m");
-    } else {
-      text("straight line:");
-      text("r = " + (v.r > 0 ? "+" : "−") + "∞, no CIR");
-    }
-    text("α = " + fmt(v.alpha) + " rad");
-    if (finite && Math.abs(v.rho) > CIR_VIEW) text("(CIR off the plot)", "#d62728");
-    y += 8;
-    text("— left wheel", "#2ca02c");
-    text("— right wheel", "#ff7f0e");
-    text("- - axle's middle");
-    text("× CIR, — radius", "#d62728");
-    text("grey: before");
-    text("black: after");
+    const finite = Number.isFinite(v.r);
+    const numbers = finite
+      ? [["r = " + fmt(v.r) + " m"], ["ρ = " + fmt(v.rho) + " m"]]
+      : [["straight line:"], ["r = " + (v.r > 0 ? "+" : "−") + "∞, no CIR"]];
+    numbers.push(["α = " + fmt(v.alpha) + " rad"]);
+    if (finite && Math.abs(v.rho) > CIR_VIEW) numbers.push(["(CIR off the plot)", theme.red]);
+    return [
+      ...numbers,
+      null,
+      ["— left wheel", theme.green],
+      ["— right wheel", theme.orange],
+      ["- - axle's middle"],
+      ["× CIR, — radius", theme.red],
+      ["grey: before"],
+      [(theme.mode === "dark" ? "white" : "black") + ": after"],
+    ];
   },
   title(p) {
     return "CIR step: s_sx = " + p.ssx.toFixed(2) + " m, s_dx = " + p.sdx.toFixed(2) + " m, l = " + p.l.toFixed(2) + " m";

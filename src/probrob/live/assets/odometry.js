@@ -1,23 +1,10 @@
-// Odometry motion model kernel: Table 5.6 (sampler) and Table 5.5 (density), written as
-// probrob.motion writes them (wrapped rotations, variances at the hypothesis for "book" and at
-// the odometry for "pose"/"xy"), held equal to it by tests/test_live_widgets.py.
+// Kernel of Tables 5.5 and 5.6, the odometry motion model: the sampler of Table 5.6 and the
+// density of Table 5.5, written as probrob.motion writes them (sample_motion_model_odometry and
+// motion_model_odometry: wrapped rotations, the variances at the hypothesis for "book" and at
+// the odometry for "pose" and "xy") and held equal to them to 1e-9 by
+// tests/test_live_widgets.py. Widget: probrob.live.motion.odometry_model_live (kind "cloud").
 // Parameters: rot1 [rad], trans [m], rot2 [rad] (the odometry's motion, from an odometry frame
 // at the origin), theta (the robot's start heading) [rad], a1..a4, noise, distribution, density.
-
-// probrob.motion._deltas: (rot1, trans, rot2) from (x, y, th) to (xn, yn, thn), into out[0..2]
-function odometryDeltas(out, x, y, th, xn, yn, thn) {
-  const dx = xn - x;
-  const dy = yn - y;
-  const trans = Math.hypot(dx, dy);
-  const rot1 = trans > 0 ? angleDiff(Math.atan2(dy, dx), th) : 0;
-  let turn = thn - th;
-  if (!Number.isFinite(turn)) turn = angleDiff(thn, th);
-  out[0] = rot1;
-  out[1] = trans;
-  out[2] = angleDiff(turn, rot1);
-  return out;
-}
-
 kernels.odometry = {
   deltas(p) {
     // u_t = (origin, apply_odometry_deltas(origin, rot1, trans, rot2)), read back as Table 5.5
@@ -31,16 +18,6 @@ kernels.odometry = {
   var1: (p, r1, t) => noiseVariance(p.noise, p.a1, r1, p.a2, t),
   varT: (p, r1, t, r2) => noiseVariance(p.noise, p.a3, t, p.a4, r1, p.a4, r2),
   var2: (p, t, r2) => noiseVariance(p.noise, p.a1, r2, p.a2, t),
-  markers(p) {
-    const e = this.end(p);
-    return [
-      { x: 0, y: 0, theta: p.theta, color: "#000" }, // the start pose
-      { x: e[0], y: e[1], theta: e[2], color: "#1f77b4" }, // the noise-free end pose
-    ];
-  },
-  heading(p) {
-    return this.end(p)[2];
-  },
   end(p) {
     const [r1, t, r2] = this.deltas(p);
     const heading = p.theta + r1;
@@ -63,6 +40,7 @@ kernels.odometry = {
   },
   density(p, xs, ys, thetaHyp, out) {
     const [r1, t, r2] = this.deltas(p);
+    const logProb = logProbOf(p);
     const book = p.density === "book";
     let var1 = this.var1(p, r1, t);
     let varT = this.varT(p, r1, t, r2);
@@ -81,10 +59,10 @@ kernels.odometry = {
           var2 = this.var2(p, hat[1], hat[2]);
         }
         // in log space, as probrob.motion.motion_model_odometry
-        const l1 = p.logProb(angleDiff(r1, hat[0]), var1);
-        const lt = p.logProb(t - hat[1], varT);
+        const l1 = logProb(angleDiff(r1, hat[0]), var1);
+        const lt = logProb(t - hat[1], varT);
         let total =
-          p.density === "xy" ? logProduct(l1, lt) : logProduct(l1, lt, p.logProb(angleDiff(r2, hat[2]), var2));
+          p.density === "xy" ? logProduct(l1, lt) : logProduct(l1, lt, logProb(angleDiff(r2, hat[2]), var2));
         if (!book) total = minusLogJacobian(total, Math.log(hat[1]));
         const q = Math.exp(total);
         out[i * nx + j] = q;
@@ -97,9 +75,5 @@ kernels.odometry = {
       p.rot2.toFixed(2) + " rad)"
     );
   },
-  densityLabel(p) {
-    if (p.density === "xy") return "density over (x′, y′) [1/m²]";
-    if (p.density === "pose") return "density at θ′ of the blue arrow [1/(m² rad)]";
-    return "Table 5.5 value at θ′ of the blue arrow";
-  },
+  densityLabel: (p) => motionDensityLabel(p, "Table 5.5"),
 };

@@ -1,9 +1,10 @@
-// Trabalho 5 kernel (Table 7.2): one step of EKF localization with known correspondences, the
-// velocity motion model's prediction (lines 2-7) and one range-bearing feature's correction
-// (lines 8-21), written as probrob.localization writes it (_ekf_predict, _landmark_at,
-// _ekf_known, _finish) on probrob.motion's chord-form g and Jacobians (exact at ω = 0) and
-// probrob.sensors' h; the 95 % ellipses as probrob.evaluation.covariance_ellipse. Held equal to
-// the library by tests/test_live_widgets_t5.py. kind: "scene" (no samples, no density).
+// Kernel of Table 7.2, EKF localization with known correspondences: one step, the velocity
+// motion model's prediction (lines 2-7) and one range-bearing feature's correction (lines
+// 8-21), written as probrob.localization.ekf_localization_known_correspondences writes it
+// (_ekf_predict, _landmark_at, _ekf_known, _finish) on probrob.motion's chord-form g and
+// Jacobians (exact at ω = 0) and probrob.sensors' h; the 95 % ellipses as
+// probrob.evaluation.covariance_ellipse. Held equal to the library by
+// tests/test_live_widgets_t5.py. Widget: probrob.live.localization.ekf_step_live (kind "scene").
 // Parameters: x0, y0, th0 (the prior mean μ_{t-1}) and sx, sy, sth (its standard deviations:
 // Σ_{t-1} = diag(sx², sy², sth²)); v, w (the control); a1..a4 (M_t's variances α1 v² + α2 ω²,
 // α3 v² + α4 ω²); mx, my (the landmark); sr, sphi (σ_r, σ_φ); dr, dphi (the measurement minus
@@ -217,109 +218,54 @@ kernels.ekf = {
     }
     return { values, points };
   },
-  drawScene(ctx, p, v, sx, sy, box) {
-    const PRIOR = "#6e6e6e";
-    const PRED = "#d95f02";
-    const POST = "#1f5fa8";
-    const MEAS = "#c41e3a";
-    const poly = (pts, color, width, dash) => {
-      ctx.strokeStyle = color;
-      ctx.lineWidth = width;
-      ctx.setLineDash(dash || []);
-      ctx.beginPath();
-      for (let k = 0; k < pts.length; k += 2) {
-        if (k === 0) ctx.moveTo(sx(pts[k]), sy(pts[k + 1]));
-        else ctx.lineTo(sx(pts[k]), sy(pts[k + 1]));
-      }
-      ctx.stroke();
-      ctx.setLineDash([]);
-    };
+  drawScene(ctx, p, v, { sx, sy, theme }) {
+    const [prior, pred, post, meas] = [theme.muted, theme.orange, theme.blue, theme.red];
+    const path = (pts) => Array.from({ length: pts.length / 2 }, (_, k) => [sx(pts[2 * k]), sy(pts[2 * k + 1])]);
+    // a pose: a dot and a heading tick 22 px long
     const pose = (m, color) => {
-      // a dot and a heading tick 22 px long
-      const X = sx(m[0]);
-      const Y = sy(m[1]);
-      const X1 = X + 22 * Math.cos(m[2]);
-      const Y1 = Y - 22 * Math.sin(m[2]);
-      ctx.fillStyle = color;
-      ctx.strokeStyle = color;
-      ctx.lineWidth = 2;
-      ctx.beginPath();
-      ctx.arc(X, Y, 3.5, 0, TWO_PI);
-      ctx.fill();
-      ctx.beginPath();
-      ctx.moveTo(X, Y);
-      ctx.lineTo(X1, Y1);
-      ctx.stroke();
-      const a = Math.atan2(Y1 - Y, X1 - X);
-      ctx.beginPath();
-      ctx.moveTo(X1, Y1);
-      ctx.lineTo(X1 - 8 * Math.cos(a - 0.4), Y1 - 8 * Math.sin(a - 0.4));
-      ctx.lineTo(X1 - 8 * Math.cos(a + 0.4), Y1 - 8 * Math.sin(a + 0.4));
-      ctx.closePath();
-      ctx.fill();
+      const [X, Y] = [sx(m[0]), sy(m[1])];
+      arrow(ctx, X, Y, X + 22 * Math.cos(m[2]), Y - 22 * Math.sin(m[2]), color, 2, 8, 3.5);
     };
-    const cross = (X, Y, color) => {
-      ctx.strokeStyle = color;
-      ctx.lineWidth = 2.5;
-      ctx.beginPath();
-      ctx.moveTo(X - 6, Y - 6);
-      ctx.lineTo(X + 6, Y + 6);
-      ctx.moveTo(X - 6, Y + 6);
-      ctx.lineTo(X + 6, Y - 6);
-      ctx.stroke();
-    };
-    ctx.save();
-    ctx.beginPath();
-    ctx.rect(box.left, box.top, box.size, box.size);
-    ctx.clip();
     const mb = v.muBar;
     // the predicted line of sight to the landmark (thin) and the measured one (dashed) with its end
-    poly([mb[0], mb[1], p.mx, p.my], PRIOR, 1, [2, 3]);
+    polyline(ctx, path([mb[0], mb[1], p.mx, p.my]), prior, 1, [2, 3]);
     if (v.updated) {
       const a = mb[2] + v.z[1];
-      const ex = mb[0] + v.z[0] * Math.cos(a);
-      const ey = mb[1] + v.z[0] * Math.sin(a);
-      poly([mb[0], mb[1], ex, ey], MEAS, 1.5, [6, 4]);
-      cross(sx(ex), sy(ey), MEAS);
+      const end = [mb[0] + v.z[0] * Math.cos(a), mb[1] + v.z[0] * Math.sin(a)];
+      polyline(ctx, path([mb[0], mb[1], ...end]), meas, 1.5, [6, 4]);
+      cross(ctx, sx(end[0]), sy(end[1]), meas);
     }
-    poly(v.ellipsePrior, PRIOR, 1.5, [5, 4]);
-    poly(v.ellipseBar, PRED, 2, [9, 3]);
-    poly(v.ellipsePost, POST, 2.5);
-    pose(v.muPrev, PRIOR);
-    pose(mb, PRED);
-    pose(v.mu, POST);
-    ctx.fillStyle = "#000";
+    polyline(ctx, path(v.ellipsePrior), prior, 1.5, [5, 4]);
+    polyline(ctx, path(v.ellipseBar), pred, 2, [9, 3]);
+    polyline(ctx, path(v.ellipsePost), post, 2.5);
+    pose(v.muPrev, prior);
+    pose(mb, pred);
+    pose(v.mu, post);
+    ctx.fillStyle = theme.fg;
     ctx.fillRect(sx(p.mx) - 6, sy(p.my) - 6, 12, 12);
-    ctx.restore();
-    // legend and numbers, right of the plot
-    const x0 = box.left + box.size + 10;
-    let y = box.top + 6;
-    ctx.font = "12px sans-serif";
-    ctx.textAlign = "left";
-    ctx.textBaseline = "middle";
-    const text = (s, color) => {
-      ctx.fillStyle = color || "#000";
-      ctx.fillText(s, x0, y);
-      y += 17;
-    };
+  },
+  legendRows: 6,
+  legend(p, v, theme) {
     const f = (x, d) => (x < 0 ? "−" : "") + Math.abs(x).toFixed(d === undefined ? 2 : d);
-    text("95 % ellipses:");
-    text("- - prior μ, Σ", PRIOR);
-    text("– – predicted μ̄, Σ̄", PRED);
-    text("—— posterior", POST);
-    text("■ landmark");
-    text("× measured z", MEAS);
-    y += 8;
-    if (v.updated) {
-      text("r̂ = " + f(v.zhat[0]) + " m");
-      text("φ̂ = " + f(v.zhat[1]) + " rad");
-      text("z = (" + f(v.z[0]) + ", " + f(v.z[1]) + ")");
-      text("ν = (" + f(v.nu[0]) + ", " + f(v.nu[1]) + ")");
-      text("log p(z) = " + f(v.logp, 1));
-    } else {
-      text("landmark at μ̄:", MEAS);
-      text("no update", MEAS);
-    }
+    const numbers = v.updated
+      ? [
+          ["r̂ = " + f(v.zhat[0]) + " m"],
+          ["φ̂ = " + f(v.zhat[1]) + " rad"],
+          ["z = (" + f(v.z[0]) + ", " + f(v.z[1]) + ")"],
+          ["ν = (" + f(v.nu[0]) + ", " + f(v.nu[1]) + ")"],
+          ["log p(z) = " + f(v.logp, 1)],
+        ]
+      : [["landmark at μ̄:", theme.red], ["no update", theme.red]];
+    return [
+      ["95 % ellipses:"],
+      ["- - prior μ, Σ", theme.muted],
+      ["– – predicted μ̄, Σ̄", theme.orange],
+      ["—— posterior", theme.blue],
+      ["■ landmark"],
+      ["× measured z", theme.red],
+      null,
+      ...numbers,
+    ];
   },
   title(p) {
     return "EKF step: u = (" + p.v.toFixed(2) + " m/s, " + p.w.toFixed(2) + " rad/s), Δt = " + p.dt + " s";

@@ -1,0 +1,402 @@
+r"""Live widget of chapter 8: Monte Carlo localization (Table 8.2) over a stretch of a laser log.
+
+Holds :func:`particle_filter_live` (kernel ``assets/mcl.js``, which draws its own picture: the
+map, the particles, the reference and the estimate, with step and play buttons), the random
+numbers it embeds (:func:`particle_filter_draws`), its choice of beams
+(:func:`particle_filter_beams`) and :func:`particle_filter_decoded` (what the page decodes, for
+feeding :mod:`probrob.mcl` the same numbers). Does not hold the filter (:mod:`probrob.mcl`,
+which the kernel mirrors and ``tests/test_live_mcl.py`` holds it to, step by step).
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+
+import numpy as np
+
+from .. import _validation as check
+from ..distributions import sample_normal_distribution
+from .core import Choice, LiveWidget, Slider, alpha_sliders, b64, render, spec
+
+__all__ = [
+    "PF_HEADING_BINS",
+    "PF_RADIUS",
+    "particle_filter_beams",
+    "particle_filter_decoded",
+    "particle_filter_draws",
+    "particle_filter_live",
+]
+
+#: Particles within which the live particle filter's ``estimate_pose`` clusters (m).
+PF_RADIUS = 0.5
+#: Heading sectors of the live particle filter's ``estimate_pose`` (its default, 30° each).
+PF_HEADING_BINS = 12
+#: The embedded ranges are whole millimetres (uint16); this code marks a max-range reading.
+PF_MAX_RANGE_CODE = 0xFFFF
+#: The most steps and map cells a page carries (its size budget is 400 kB).
+PF_MAX_STEPS, PF_MAX_CELLS = 300, 400_000
+
+
+def particle_filter_draws(n_max=2000, steps=100, rng=0) -> dict[str, np.ndarray]:
+    r"""Return the seeded random numbers the live particle filter embeds and replays.
+
+    One generator makes, in this order,
+
+    * ``"normal"`` shape ``(3 n_max,)``: a pool of standardized normals of
+      :func:`~probrob.distributions.sample_normal_distribution` (the book's sum of twelve
+      uniforms, variance 1), rounded to float32 (to halve their size in the page);
+    * ``"offsets"`` shape ``(steps, 3)``: integers in ``[0, 3 n_max)``. At step ``t``
+      (1-based) the motion sampler's noise term ``k`` (:math:`\hat\delta_{rot1}`,
+      :math:`\hat\delta_{trans}`, :math:`\hat\delta_{rot2}`) of particle ``i`` is
+      :math:`\sqrt{b^2}\, z` with ``z = normal[(offsets[t - 1, k] + i) % (3 n_max)]``: every
+      step reads the pool from three fresh random places, so no particle index keeps its noise;
+    * ``"resample"`` shape ``(steps,)``: uniforms in [0, 1), the low-variance sampler's
+      random number of each step (``offset`` of :func:`probrob.mcl.low_variance_sampler`);
+    * ``"uniforms"`` shape ``(n_max, 4)``: uniforms ``k / 2**24`` (exact in float32) for a global
+      start (``uniforms`` of :func:`probrob.mcl.uniform_particles`).
+
+    The known start uses the pool's first ``3 n_max``: particle ``i`` is
+    ``start + spread * (normal[i], normal[n_max + i], normal[2 n_max + i])``.
+
+    Parameters
+    ----------
+    n_max : int
+        The most particles the widget offers (>= 1).
+    steps : int
+        Filter steps (>= 1).
+    rng : None, int or numpy.random.Generator
+        Seed.
+
+    Returns
+    -------
+    draws : dict
+    """
+    n_max = check.count(n_max, "n_max", 1)
+    steps = check.count(steps, "steps", 1)
+    gen = check.rng(rng)
+    pool = 3 * n_max
+    normal = sample_normal_distribution(1.0, size=pool, rng=gen).astype(np.float32)
+    return {
+        "normal": normal.astype(np.float64),
+        "offsets": gen.integers(0, pool, size=(steps, 3)),
+        "resample": gen.random(steps),
+        "uniforms": gen.integers(0, 2**24, size=(n_max, 4)) / 2.0**24,
+    }
+
+
+def particle_filter_beams(total, k) -> np.ndarray:
+    """Return the indices of ``k`` of ``total`` beams spread evenly over the scan.
+
+    ``round(linspace(0, total - 1, k))`` (half to even), the selection of the live particle
+    filter's "beams" slider; shape ``(k,)``.
+    """
+    total = check.count(total, "total", 1)
+    k = check.count(k, "k", 1)
+    if k > total:
+        raise ValueError(f"k must be at most the {total} beams of a scan, got {k}")
+    return np.round(np.linspace(0, total - 1, k)).astype(np.intp)
+
+
+def _cells(grid) -> str:
+    """The grid's cells as 2-bit codes (0 unexplored, 1 free, 2 occupied), four per byte,
+    row-major from row 0 (the lowest y); base64."""
+    codes = grid.free.astype(np.uint8).ravel() + 2 * grid.occupied.astype(np.uint8).ravel()
+    codes = np.concatenate([codes, np.zeros(-codes.size % 4, np.uint8)]).reshape(-1, 4)
+    packed = codes[:, 0] | codes[:, 1] << 2 | codes[:, 2] << 4 | codes[:, 3] << 6
+    return b64(packed, "u1")
+
+
+def _ranges(scans, max_range) -> np.ndarray:
+    """The ranges as whole millimetres, max-range readings (z >= max_range) as the code."""
+    mm = np.round(scans * 1000.0)
+    if np.any(mm[scans < max_range] >= PF_MAX_RANGE_CODE):
+        raise ValueError(
+            f"scans must be below {PF_MAX_RANGE_CODE / 1000} m (the page keeps whole "
+            "millimetres in 16 bits) or at least params.max_range"
+        )
+    return np.where(scans < max_range, mm, PF_MAX_RANGE_CODE).astype(np.uint16)
+
+
+def particle_filter_decoded(widget: LiveWidget) -> dict[str, np.ndarray]:
+    """Return the arrays a live particle filter embeds, decoded as its JavaScript decodes them.
+
+    ``scans`` in metres (a max-range reading as ``max_range``), ``odometry`` ``(T, 2, 3)``,
+    ``truth`` ``(T + 1, 3)``, ``beam_angles`` ``(K,)`` and the draws of
+    :func:`particle_filter_draws`; for feeding :mod:`probrob.mcl` exactly what the page uses.
+    """
+    match = re.search(r"const config = (\{.*?\});\n", widget.html)
+    if widget.kernel != "mcl" or match is None:
+        raise ValueError("widget must be a live particle filter (particle_filter_live)")
+    config = json.loads(match.group(1))
+    data = config["data"]
+
+    def raw(name, dtype):
+        return np.frombuffer(base64.b64decode(data[name]), dtype)
+
+    steps, k, n_max = config["steps"], config["beamsTotal"], config["nMax"]
+    mm = raw("scans", "<u2").reshape(steps, k).astype(np.float64)
+    max_range = config["constants"]["maxRange"]
+    return {
+        "scans": np.where(mm == PF_MAX_RANGE_CODE, max_range, mm / 1000.0),
+        "odometry": raw("odometry", "<f8").reshape(steps, 2, 3),
+        "truth": raw("truth", "<f8").reshape(steps + 1, 3),
+        "beam_angles": raw("beamAngles", "<f8"),
+        "normal": raw("normal", "<f4").astype(np.float64),
+        "offsets": raw("offsets", "<u4").reshape(steps, 3).astype(np.intp),
+        "resample": raw("resample", "<f8"),
+        "uniforms": raw("uniforms", "<f4").reshape(n_max, 4).astype(np.float64),
+    }
+
+
+def _snap(value, name, lo, hi, step):
+    """A start value checked against its slider's range and rounded to the slider's step."""
+    value = check.in_range(value, name, lo, hi)
+    return float(min(hi, max(lo, round(round((value - lo) / step) * step + lo, 10))))
+
+
+def _check_log(odometry, scans, beam_angles):
+    """The log's arrays checked against each other: u (T, 2, 3), z (T, K), the angles (K,)."""
+    u = check.finite(odometry, "odometry")
+    if u.ndim != 3 or u.shape[1:] != (2, 3) or not 1 <= u.shape[0] <= PF_MAX_STEPS:
+        raise ValueError(f"odometry must have shape (T, 2, 3) with 1 <= T <= 300, got {u.shape}")
+    steps = u.shape[0]
+    angles = check.finite(beam_angles, "beam_angles")
+    if angles.ndim != 1 or angles.size == 0:
+        raise ValueError(f"beam_angles must have shape (K,) with K >= 1, got {angles.shape}")
+    z = check.finite(scans, "scans")
+    if z.shape != (steps, angles.size):
+        raise ValueError(
+            f"scans must have shape (T, K) = {(steps, angles.size)} (odometry's T, "
+            f"beam_angles' K), got {z.shape}"
+        )
+    if np.any(z < 0):
+        raise ValueError(f"scans must be non-negative ranges, got min {z.min()!r}")
+    return u, z, angles
+
+
+def _check_model(grid, alpha, params):
+    """The map and the models' start values checked: (grid, alpha)."""
+    from ..maps import _check_grid
+    from ..sensors import BeamModelParams
+
+    grid = _check_grid(grid)
+    if grid.occupied.size > PF_MAX_CELLS:
+        raise ValueError(f"grid must have at most 400,000 cells, got {grid.occupied.size:,}")
+    if not grid.occupied.any() or not grid.free.any():
+        raise ValueError("grid must have an occupied cell and a free cell")
+    alpha = alpha_sliders(alpha, 4)  # checked as the sliders' start values
+    if not isinstance(params, BeamModelParams):
+        raise ValueError(f"params must be a BeamModelParams, got {type(params).__name__}")
+    if params.z_hit + params.z_rand <= 0:
+        raise ValueError("params must have z_hit + z_rand > 0 (the likelihood field's weights)")
+    return grid, [s.value for s in alpha]
+
+
+def _controls(steps, n_beams, alpha, params, start, view, n_particles, n_max, beams, exponent,
+              step):  # fmt: skip
+    """The sliders and choices of the filter, their start values checked and snapped."""
+    check.choice(start, "start", ("known", "global"))
+    check.choice(view, "view", ("map", "robot"))
+    n_max = check.count(n_max, "n_max", 100)
+    if n_max > 5000 or n_max % 100:
+        raise ValueError(f"n_max must be a multiple of 100 in [100, 5000], got {n_max}")
+    n_particles = check.count(n_particles, "n_particles", 1)
+    if not 100 <= n_particles <= n_max:
+        raise ValueError(f"n_particles must lie in [100, n_max = {n_max}], got {n_particles}")
+    beams = check.count(beams, "beams", 1)
+    if beams > n_beams:
+        raise ValueError(f"beams must be at most the {n_beams} beams of a scan, got {beams}")
+    step = check.count(step, "step", 0)
+    if step > steps:
+        raise ValueError(f"step must lie in [0, T = {steps}], got {step}")
+    share = params.z_rand / (params.z_hit + params.z_rand)
+    sigma = _snap(params.sigma_hit, "params.sigma_hit", 0.01, 1.0, 0.001)
+    sliders = [
+        Slider("t", "step t", float(step), 0.0, float(steps), 1.0, snap=True),
+        *(
+            Slider(f"a{k + 1}", f"α{k + 1}", _snap(a, f"alpha[{k}]", 0, 0.5, 1e-4), 0.0, 0.5, 1e-4)
+            for k, a in enumerate(alpha)
+        ),
+        Slider("sigma", "σ_hit [m]", sigma, 0.01, 1.0, 0.001),
+        Slider("zrand", "z_rand share", _snap(share, "z_rand share", 0, 1, 0.001), 0.0, 1.0, 0.001),
+        Slider("beams", "beams", float(beams), 1.0, float(n_beams), 1.0, snap=True),
+        Slider("kappa", "exponent", _snap(exponent, "exponent", 0.01, 1, 0.01), 0.01, 1.0, 0.01),
+        Slider(
+            "n", "particles", _snap(n_particles, "n_particles", 100, n_max, 100), 100.0,
+            float(n_max), 100.0, snap=True,
+        ),
+    ]  # fmt: skip
+    choices = [
+        Choice("start", "start", (("known", "known pose"), ("global", "uniform (global)")), start),
+        Choice("view", "view", (("map", "whole map"), ("robot", "around the robot")), view),
+    ]
+    return sliders, choices, n_max
+
+
+def _data(u, z, truth, angles, params, draws) -> dict[str, str]:
+    """The embedded log and random numbers, each as base64 of the type the page decodes."""
+    return {
+        "odometry": b64(u),
+        "scans": b64(_ranges(z, params.max_range), "<u2"),
+        "truth": b64(truth),
+        "beamAngles": b64(angles),
+        "normal": b64(draws["normal"], "<f4"),
+        "offsets": b64(draws["offsets"], "<u4"),
+        "resample": b64(draws["resample"]),
+        "uniforms": b64(draws["uniforms"], "<f4"),
+    }
+
+
+def _caption(steps) -> str:
+    return (
+        f"One step of Table 8.2 per scan, {steps} scans of the log: every particle moves by the "
+        "odometry model (Table 5.6) with the α of the sliders, is weighted by the likelihood "
+        "field (Table 6.3) of the chosen beams, and the set is redrawn by the low-variance "
+        "sampler (Table 4.4). {Black|White}: occupied cells; {white|dark}: free; grey: "
+        "unexplored. Green: the reference (corrected) path and pose; blue arrow: the estimate "
+        f"(the heaviest cluster, {PF_RADIUS} m cells and {360 // PF_HEADING_BINS}° of heading). "
+        "Moving a slider re-runs the filter from the start on the same random numbers. Step, "
+        "play or drag the step slider."
+    )
+
+
+def particle_filter_live(
+    odometry,
+    scans,
+    grid,
+    beam_angles,
+    alpha,
+    params,
+    truth,
+    *,
+    start="known",
+    spread=(0.1, 0.1, 0.05),
+    n_particles=500,
+    n_max=2000,
+    beams=60,
+    exponent=1.0,
+    step=0,
+    view="map",
+    rng=0,
+    title="Monte Carlo localization (Table 8.2)",
+    width=600,
+    height=560,
+) -> LiveWidget:
+    r"""Return a live particle filter: MCL (Table 8.2) over a stretch of a laser log, in the page.
+
+    The reader moves :math:`\alpha_1 \ldots \alpha_4` (the odometry model, Table 5.6),
+    :math:`\sigma_{hit}`, the share :math:`z_{rand} / (z_{hit} + z_{rand})` (their sum held at
+    ``params``'s), the number of beams (spread evenly by :func:`particle_filter_beams`), the
+    exponent of the beam product (:func:`probrob.mcl.measurement_log_weights`) and the number
+    of particles, chooses a known or a global start, and steps or plays the filter: one step
+    is :func:`probrob.mcl.mcl` with the likelihood field (Table 6.3) and the low-variance
+    sampler (Table 4.4). The canvas shows the map, the particles, the corrected pose
+    (``truth``) and :func:`probrob.mcl.estimate_pose` with radius ``PF_RADIUS`` and
+    ``PF_HEADING_BINS`` heading sectors; the text
+    under it the estimate's error. Moving a slider re-runs the filter from the start to the
+    step shown, on the same random numbers (:func:`particle_filter_draws`).
+
+    The page embeds the map's cells (2 bits each) and computes the exact distance field and
+    the likelihood-field table in the browser, so that the JavaScript computes what
+    :mod:`probrob.mcl` computes on ``grid``: ``tests/test_live_mcl.py`` holds the two equal
+    in Chromium, step by step, resampling included.
+
+    Parameters
+    ----------
+    odometry : array_like, shape (T, 2, 3)
+        One odometry pair per step (as :func:`probrob.mcl.run_mcl`), ``1 <= T <= 300``.
+    scans : array_like, shape (T, K)
+        The scan at the end of each step (m); kept to whole millimetres, and readings
+        ``>= params.max_range`` as max-range readings.
+    grid : OccupancyGrid
+        The map (it must have an occupied and a free cell; at most 400,000 cells).
+    beam_angles : array_like, shape (K,)
+    alpha : array_like, shape (4,)
+        Start values of :math:`\alpha_1 \ldots \alpha_4` (variance form), in [0, 0.5].
+    params : BeamModelParams
+        ``sigma_hit`` (in [0.01, 1] m), ``z_hit``, ``z_rand`` (their split is a slider) and
+        ``max_range``.
+    truth : array_like, shape (T + 1, 3)
+        The reference poses (e.g. the log's corrected poses): the known start is
+        ``truth[0]``, the error of step ``t`` is against ``truth[t]``.
+    start : {"known", "global"}
+        Start value of the start choice: ``truth[0]`` plus ``spread`` times normals, or
+        :func:`probrob.mcl.uniform_particles` over ``grid.free``.
+    spread : array_like, shape (3,)
+        Standard deviations (m, m, rad) of the known start, each >= 0.
+    n_particles : int
+        Start value of the particles slider, in [100, n_max] (a multiple of 100).
+    n_max : int
+        Most particles (the slider's end), in [100, 5000], a multiple of 100.
+    beams : int
+        Start value of the beams slider, in [1, K].
+    exponent : float
+        Start value of the exponent slider, in [0.01, 1].
+    step : int
+        The step shown first, in [0, T].
+    view : {"map", "robot"}
+        The whole map, or a 12 m square around the reference pose.
+    rng : None, int or numpy.random.Generator
+        Seed of :func:`particle_filter_draws`.
+    title : str
+    width, height : int
+        The canvas's largest width and its aspect ratio, in CSS pixels.
+
+    Returns
+    -------
+    widget : LiveWidget
+        Start values are rounded to their slider's step.
+    """
+    u, z, angles = _check_log(odometry, scans, beam_angles)
+    grid, alpha = _check_model(grid, alpha, params)
+    steps = u.shape[0]
+    truth = check.poses(truth, "truth")
+    if truth.shape != (steps + 1, 3):
+        raise ValueError(f"truth must have shape (T + 1, 3) = {(steps + 1, 3)}, got {truth.shape}")
+    spread = check.finite(spread, "spread")
+    if spread.shape != (3,) or np.any(spread < 0):
+        raise ValueError(f"spread must be 3 standard deviations >= 0, got {spread.tolist()}")
+    sliders, choices, n_max = _controls(
+        steps, angles.size, alpha, params, start, view, n_particles, n_max, beams, exponent, step
+    )
+    h, w = grid.shape
+    config = {
+        "kernel": "mcl",
+        "width": check.count(width, "width", 1),
+        "height": check.count(height, "height", 1),
+        "steps": steps,
+        "beamsTotal": int(angles.size),
+        "nMax": n_max,
+        **spec(sliders, choices),
+        "buttons": (("step", "step"), ("play", "play"), ("start", "to start"), ("reset", "reset")),
+        "status": True,
+        "constants": {
+            "zSum": params.z_hit + params.z_rand,
+            "maxRange": params.max_range,
+            "radius": PF_RADIUS,
+            "headingBins": PF_HEADING_BINS,
+            "spread": spread.tolist(),
+        },
+        "map": {
+            "h": h,
+            "w": w,
+            "origin": [float(grid.origin[0]), float(grid.origin[1])],
+            "resolution": float(grid.resolution),
+            "cells": _cells(grid),
+        },
+        "data": _data(u, z, truth, angles, params, particle_filter_draws(n_max, steps, rng)),
+    }
+    return render(
+        "mcl",
+        config,
+        title=title,
+        caption=_caption(steps),
+        aria_label=(
+            "Map of the building with the particle cloud of Monte Carlo localization (red dots), "
+            "the reference pose (green circle) and the filter's estimate (blue arrow)."
+        ),
+        scripts=("maths.js", "likelihood_field.js", "mcl.js"),
+        budgets={"size-budget": 400_000, "update-budget": 16},
+    )
