@@ -13,6 +13,9 @@ from probrob.mcl import kld_sample_size
 from probrob.motion import odometry_deltas
 
 W2 = np.array([0.05, 0.42, 0.18, 0.35])
+# Exercise 6 by hand: p̄ = (0.11, 0.11, 0.21, 0.36, 0.21); times the door likelihood
+# (0.066, 0.011, 0.021, 0.216, 0.021), whose sum 0.335 is 1/η
+RING_RIGHT = 0.216 / 0.335
 R1, _, _ = odometry_deltas(np.zeros(3), np.array([-0.004, 0.001, 0.5]))
 
 RIGHT = {
@@ -21,6 +24,7 @@ RIGHT = {
     "exercise_3": 0.25,
     "exercise_4": 1 / np.sum((np.array([1, 1, 1, 5]) / 8) ** 2),
     "exercise_5": (math.sqrt(0.1) * abs(R1), 0.0),
+    "exercise_6": RING_RIGHT,
 }
 
 # The registry that tests/test_exercises.py reads: every check, its typical wrong answers.
@@ -58,6 +62,16 @@ WRONG_ANSWERS = {
         (math.sqrt(0.1) * 0.5, 0.0),  # the turn instead of δrot1
         (math.sqrt(0.1) * abs(R1), math.sqrt(0.1) * abs(R1)),  # amcl as the book
         math.sqrt(0.1) * abs(R1),  # one number only
+    ],
+    "exercise_6": [
+        0.0,
+        0.216,  # line 4 without η
+        0.36,  # line 3's prediction only
+        0.4 * 0.6 / (0.1 * 0.6 + 0.2 * 0.1 + 0.4 * 0.1 + 0.2 * 0.6 + 0.1 * 0.1),  # no motion
+        # the motion the wrong way round: p̄ = (0.11, 0.21, 0.36, 0.21, 0.11)
+        0.21 * 0.6 / (0.11 * 0.6 + 0.21 * 0.1 + 0.36 * 0.1 + 0.21 * 0.6 + 0.11 * 0.1),
+        0.6,  # the likelihood itself
+        1.5,
     ],
 }
 
@@ -122,6 +136,9 @@ def test_the_right_answers_agree_with_the_chapters_solutions():
     a = 2 / (9 * 39)
     assert RIGHT["exercise_1"] == math.ceil(39 / 0.1 * (1 - a + math.sqrt(a) * z) ** 3)
     assert RIGHT["exercise_4"] == pytest.approx(64 / 28)
+    p_bar, p = mcl._ring_step(mcl.RING_PRIOR, mcl.RING_MOVE, mcl.RING_DOOR)
+    np.testing.assert_allclose(p_bar, [0.11, 0.11, 0.21, 0.36, 0.21], rtol=1e-12)
+    assert p[3] == pytest.approx(RIGHT["exercise_6"], rel=1e-12)
     # the Wilson-Hilferty approximation is so close at k = 40 that the exact chi-square
     # quantile gives the same count: not a wrong answer, so the check accepts it
     exact = math.ceil(chi2.ppf(0.99, 39) / (2 * 0.05))
@@ -135,6 +152,7 @@ def test_the_right_answers_agree_with_the_chapters_solutions():
         ("exercise_4", 2.29),  # 64/28 = 2.2857...: was "N_eff = 1 / Σ w̃ᵢ² ..."
         ("exercise_5", (0.1, 0.0)),  # wrong, not a rounding: the concept message
         ("exercise_5", (float(f"{math.sqrt(0.1) * abs(R1):.2g}"), 0.0)),
+        ("exercise_6", 0.64),  # 0.6448 to two digits
     ],
 )
 def test_the_rule_of_digits_issue_23_item_11(name, answer):

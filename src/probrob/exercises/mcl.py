@@ -110,3 +110,44 @@ def exercise_5(answer) -> str | None:
     if amcl != 0.0:
         return "amcl's value is not right: what does amcl do below 1 cm of translation?"
     return None
+
+
+# Exercise 6: Table 8.1 on a ring corridor of five cells
+RING_PRIOR = np.array([0.1, 0.2, 0.4, 0.2, 0.1])
+RING_MOVE = {0: 0.1, 1: 0.8, 2: 0.1}  # cells moved forward: probability
+RING_DOOR = np.array([0.6, 0.1, 0.1, 0.6, 0.1])  # p(z = door | cell): doors at cells 0 and 3
+
+
+def _ring_step(prior, move, likelihood):
+    """Table 8.1 on the ring: line 3 (a sum over the previous cells), line 4 (times the
+    likelihood, normalised); returns ``(p_bar, posterior)``."""
+    n = len(prior)
+    p_bar = np.array(
+        [sum(prior[i] * move.get((k - i) % n, 0.0) for i in range(n)) for k in range(n)]
+    )
+    p = likelihood * p_bar
+    return p_bar, p / p.sum()
+
+
+def exercise_6(answer) -> str | None:
+    """Ring of five cells, prior (0.1, 0.2, 0.4, 0.2, 0.1), one cell forward (0.1 stays, 0.8
+    one, 0.1 two), door seen (0.6 at cells 0 and 3, else 0.1): the posterior of cell 3."""
+    got, problem = _number(answer, "one probability")
+    if problem:
+        return problem
+    p_bar, p = _ring_step(RING_PRIOR, RING_MOVE, RING_DOOR)
+    want = p[3]
+    if not 0.0 <= got <= 1.0:
+        return "a probability lies between 0 and 1"
+    if np.isclose(got, want, rtol=1e-3, atol=0.0):
+        return None
+    if agrees(got, RING_DOOR[3] * p_bar[3], rtol=1e-3):
+        return "line 4 ends with η: normalise over the five cells"
+    if agrees(got, p_bar[3], rtol=1e-3):
+        return "that is line 3's prediction: line 4 weighs it by the door's likelihood"
+    backward = {(-k) % 5: q for k, q in RING_MOVE.items()}
+    if agrees(got, _ring_step(RING_PRIOR, backward, RING_DOOR)[1][3], rtol=1e-3):
+        return "the robot moves to higher cell numbers: p̄_k sums p_i over the cells i behind k"
+    if agrees(got, _ring_step(RING_PRIOR, {0: 1.0}, RING_DOOR)[1][3], rtol=1e-3):
+        return "the robot moved before the door was seen: predict first (line 3)"
+    return more_digits(got, want, rtol=1e-3) or "not Table 8.1's posterior of cell 3"
