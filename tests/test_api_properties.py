@@ -78,13 +78,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
-import probrob.live as live
 import probrob.angles as angles
 import probrob.datasets as datasets
 import probrob.distributions as distributions
 import probrob.evaluation as evaluation
 import probrob.fitting as fitting
 import probrob.kinematics as kinematics
+import probrob.live as live
 import probrob.localization as localization
 import probrob.maps as maps
 import probrob.mcl as mcl
