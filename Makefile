@@ -206,6 +206,7 @@ bench: $(STAMP)
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_filters.py
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_kinematics.py
 	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_mcl.py
+	MPLBACKEND=Agg $(BIN)/python benchmarks/bench_grid.py
 
 # ---- cleaning ----------------------------------------------------------------------------
 clean:
