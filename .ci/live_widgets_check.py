@@ -111,6 +111,17 @@ def move_sliders(page, wid: str, sliders: list[str]) -> tuple[list[str], list[st
         page.js(JS_TWO_FRAMES)
         after = page.js(JS_SLIDER % (wid, p, p))
         redrawn = page.js(JS_CANVAS_HASH % wid) != canvas
+        if not redrawn and after["range"] != before["range"]:
+            # Five steps may change nothing a pixel shows (the particle filter's low-variance
+            # resampling picks the same particles under a slightly other weight): the slider's
+            # far end must then change the picture.
+            if before["atMax"]:
+                _press(page, "Home", 36, 1)
+            else:
+                _press(page, "End", 35, 1)
+            page.js(JS_TWO_FRAMES)
+            after = page.js(JS_SLIDER % (wid, p, p))
+            redrawn = page.js(JS_CANVAS_HASH % wid) != canvas
         if not (after["range"] != before["range"] and after["number"] == after["range"]):
             stuck.append(f"{param} (its value or number box did not change)")
         elif not redrawn:
