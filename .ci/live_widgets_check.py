@@ -103,6 +103,14 @@ def _press(page, key: str, code: int, times: int) -> None:
             )
 
 
+def _move(page, wid: str, p: str, key: tuple[str, int], times: int, canvas) -> tuple[dict, bool]:
+    """Press ``key`` on slider ``p`` (JSON) ``times`` times; return its state and whether the
+    widget's canvas differs from ``canvas`` (its hash before)."""
+    _press(page, *key, times)
+    page.js(JS_TWO_FRAMES)
+    return page.js(JS_SLIDER % (wid, p, p)), page.js(JS_CANVAS_HASH % wid) != canvas
+
+
 def move_sliders(page, wid: str, sliders: list[str]) -> tuple[list[str], list[str]]:
     """Move each slider of widget ``wid`` five steps with the keyboard; return (what moved,
     the sliders that did not update the widget)."""
@@ -114,24 +122,14 @@ def move_sliders(page, wid: str, sliders: list[str]) -> tuple[list[str], list[st
         if not page.js(JS_FOCUS % (wid, p)):
             stuck.append(f"{param} (cannot take the keyboard focus)")
             continue
-        if before["atMax"]:
-            _press(page, "ArrowLeft", 37, 5)
-        else:
-            _press(page, "ArrowRight", 39, 5)
-        page.js(JS_TWO_FRAMES)
-        after = page.js(JS_SLIDER % (wid, p, p))
-        redrawn = page.js(JS_CANVAS_HASH % wid) != canvas
+        key = ("ArrowLeft", 37) if before["atMax"] else ("ArrowRight", 39)
+        after, redrawn = _move(page, wid, p, key, 5, canvas)
         if not redrawn and after["range"] != before["range"]:
             # Five steps may change nothing a pixel shows (the particle filter's low-variance
             # resampling picks the same particles under a slightly other weight): the slider's
             # far end must then change the picture.
-            if before["atMax"]:
-                _press(page, "Home", 36, 1)
-            else:
-                _press(page, "End", 35, 1)
-            page.js(JS_TWO_FRAMES)
-            after = page.js(JS_SLIDER % (wid, p, p))
-            redrawn = page.js(JS_CANVAS_HASH % wid) != canvas
+            key = ("Home", 36) if before["atMax"] else ("End", 35)
+            after, redrawn = _move(page, wid, p, key, 1, canvas)
             # back to where it was, so that no later slider is tested at this one's extreme
             # (the particle filter's z_rand = 1 makes every weight equal: no exponent shows)
             page.js(JS_SET % (wid, p, json.dumps(before["range"])))

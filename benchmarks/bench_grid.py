@@ -36,12 +36,11 @@ How to run: ``python benchmarks/bench_grid.py [--quick] [--check]``.
 from __future__ import annotations
 
 import argparse
-import gc
 import sys
-import time
 import tracemalloc
 
 import numpy as np
+from _timing import best
 
 from probrob.datasets import load_intel_lab
 from probrob.grid_localization import (
@@ -60,20 +59,6 @@ PARAMS = BeamModelParams(0.9033, 0.0266, 0.0214, 0.0487, 0.0832, 1.0, 26.0)  # ~
 EXPONENT = 3 / 60
 TARGET_S = 0.5
 N_LOOP = 20
-
-
-def best(fn, repeats):
-    fn()  # warm-up (caches: the likelihood-field table, the state space's centres)
-    gc.disable()
-    try:
-        times = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            fn()
-            times.append(time.perf_counter() - t0)
-    finally:
-        gc.enable()
-    return min(times)
 
 
 def shifted_slices(belief, kernel, pose_grid):

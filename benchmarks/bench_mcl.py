@@ -37,11 +37,10 @@ How to run: ``make bench``, or ``python benchmarks/bench_mcl.py [--quick] [--che
 from __future__ import annotations
 
 import argparse
-import gc
 import sys
-import time
 
 import numpy as np
+from _timing import best
 
 from probrob.datasets import load_intel_lab
 from probrob.maps import OccupancyGrid
@@ -60,20 +59,6 @@ ALPHA = [0.05, 0.01, 0.05, 0.01]
 PARAMS = BeamModelParams(0.8, 0.0, 0.05, 0.15, 0.1, 1.0, 25.0)
 TARGET_MS = 20.0
 BEAM_TARGET_MS = 100.0
-
-
-def best(fn, repeats):
-    fn()  # warm-up (caches: the likelihood-field table, the traversal tables)
-    gc.disable()
-    try:
-        times = []
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            fn()
-            times.append(time.perf_counter() - t0)
-    finally:
-        gc.enable()
-    return min(times)
 
 
 def transcription(particles, u, z, grid, angles, rng):

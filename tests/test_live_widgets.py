@@ -719,6 +719,21 @@ def phone(page, on):
         page.send("Emulation.clearDeviceMetricsOverride")
 
 
+def plots_on_phone_and_desktop(page):
+    """The plots of every widget in the book's column on a phone (358 CSS px, DPR 3) and on
+    a desktop (623 px): ``(narrow, wide)``, each as :data:`JS_PLOTS` returns them; the page is
+    left as it was."""
+    try:
+        phone(page, True)
+        narrow = page.js(JS_PLOTS % json.dumps(358))
+        phone(page, False)
+        wide = page.js(JS_PLOTS % json.dumps(623))
+    finally:
+        phone(page, False)
+        page.js(JS_PLOTS % "null")
+    return narrow, wide
+
+
 def test_plots_are_never_narrower_than_250_css_px(page):
     """In the book's column on a phone (358 CSS px of a 390-px viewport, device pixel ratio 3)
     and on a desktop (623 px), no plot is narrower than 250 CSS px: on the phone the colour bar

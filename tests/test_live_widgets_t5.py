@@ -379,14 +379,7 @@ def test_controls_mode_and_width(page):
         assert "white square" in dark["caption"]
     finally:
         page.js(_base.JS_MODE % "null")
-    try:
-        _base.phone(page, True)
-        narrow = page.js(_base.JS_PLOTS % json.dumps(358))
-        _base.phone(page, False)
-        wide = page.js(_base.JS_PLOTS % json.dumps(623))
-    finally:
-        _base.phone(page, False)
-        page.js(_base.JS_PLOTS % "null")
+    narrow, wide = _base.plots_on_phone_and_desktop(page)
     _base.assert_plots_fit(narrow + wide)
     # the legend: below the plot (a taller canvas) on the phone, beside it on the desktop
     (_, _, w, _), (css_w, css_h) = narrow[0]["plots"][0], narrow[0]["css"]

@@ -416,14 +416,7 @@ def test_two_panels_stack_on_a_phone(page):
     """The Turkish lecture's two noise forms: side by side on a desktop column (each plot at
     least 250 CSS px), one above the other on a phone instead of two plots of 69 px; the CIR
     step's legend moves below its plot there."""
-    try:
-        _base.phone(page, True)
-        narrow = page.js(_base.JS_PLOTS % json.dumps(358))
-        _base.phone(page, False)
-        wide = page.js(_base.JS_PLOTS % json.dumps(623))
-    finally:
-        _base.phone(page, False)
-        page.js(_base.JS_PLOTS % "null")
+    narrow, wide = _base.plots_on_phone_and_desktop(page)
     _base.assert_plots_fit(narrow + wide)
     for k in (0, 1):
         (x0, y0, w0, _), (x1, y1, w1, _) = narrow[k]["plots"]

@@ -16,7 +16,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 FOLDERS = ("src", "tests", "benchmarks", ".ci")
-SKIP_PARTS = {"__pycache__", ".pytest_cache", ".hypothesis"}
+SKIP_PARTS = {"__pycache__", ".pytest_cache", ".hypothesis", "node_modules"}  # npm ci: not ours
 CONTROL = re.compile(rb"[\x00-\x09\x0b-\x1f\x7f]")
 
 
