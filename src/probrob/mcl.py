@@ -524,6 +524,7 @@ def augmented_mcl(
     exponent=1.0,
     free=None,
     rng=None,
+    sample=sample_normal_distribution,
 ) -> tuple[np.ndarray, float, float]:
     r"""One step of augmented MCL, with random particles for recovery (*Probabilistic Robotics*, Table 8.3).
 
@@ -551,6 +552,8 @@ def augmented_mcl(
         As :func:`mcl`.
     free : array_like of bool, shape (H, W), optional
         Where random particles are drawn (see :func:`uniform_particles`).
+    sample : callable, optional
+        The motion model's zero-mean sampler (line 6), as :func:`mcl` takes it.
 
     Returns
     -------
@@ -569,7 +572,7 @@ def augmented_mcl(
     if not a_slow < a_fast:
         raise ValueError(f"need alpha_slow < alpha_fast, got {a_slow!r} and {a_fast!r}")
     n = x.shape[0]
-    x_bar = _predict(x, u, alpha, gen)  # line 6
+    x_bar = _predict(x, u, alpha, gen, sample)  # line 6
     log_w = _log_weights(x_bar, z, grid, angles, p, sensor, exponent)  # line 7
     log_avg = logsumexp(log_w) - math.log(n) if np.isfinite(log_w).any() else -math.inf
     if log_avg > _LOG_FLOAT_MAX:  # math.exp would raise OverflowError
@@ -741,6 +744,7 @@ def kld_sampling_mcl(
     sensor="likelihood_field",
     exponent=1.0,
     rng=None,
+    sample=sample_normal_distribution,
 ) -> tuple[np.ndarray, np.ndarray]:
     r"""One step of KLD-sampling MCL (*Probabilistic Robotics*, Table 8.4).
 
@@ -773,6 +777,9 @@ def kld_sampling_mcl(
         Bin sides in x (m), y (m) and θ (rad).
     n_min, n_max : int
         Bounds on the number of particles made (:math:`M_{\chi_{min}}` and a cap).
+    sample : callable, optional
+        The motion model's zero-mean sampler (line 9), as :func:`mcl` takes it; called three
+        times per round, with ``size=(L,)`` for the round's ``L`` new particles.
 
     Returns
     -------
@@ -799,7 +806,7 @@ def kld_sampling_mcl(
     m, k, target = 0, 0, n_min  # line 3: M = 0, k = 0 (and M_chi_min)
     while m < target:  # line 18
         j = gen.permutation(low_variance_sampler(w_prev, size=target - m, rng=gen))  # line 8
-        x_new = _predict(x[j], u, alpha, gen)  # line 9
+        x_new = _predict(x[j], u, alpha, gen, sample)  # line 9
         lw_new = _log_weights(x_new, z, grid, angles, p, sensor, exponent)  # line 10
         cells = np.concatenate([cells, _bin_cells(x_new, bins)])
         k_after = k + np.cumsum(_new_bins(cells, m))  # lines 12-14, after each new particle

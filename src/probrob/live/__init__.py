@@ -82,6 +82,7 @@ from .mcl import (
     particle_filter_beams,
     particle_filter_decoded,
     particle_filter_draws,
+    particle_filter_kidnap_target,
     particle_filter_live,
 )
 from .motion import (
@@ -108,6 +109,7 @@ __all__ = [
     "particle_filter_beams",
     "particle_filter_decoded",
     "particle_filter_draws",
+    "particle_filter_kidnap_target",
     "particle_filter_live",
     "standard_draws",
     "velocity_model_live",

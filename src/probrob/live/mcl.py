@@ -1,11 +1,14 @@
-r"""Live widget of chapter 8: Monte Carlo localization (Table 8.2) over a stretch of a laser log.
+r"""Live widget of chapter 8: Monte Carlo localization (Tables 8.2-8.4) over a stretch of a laser log.
 
 Holds :func:`particle_filter_live` (kernel ``assets/mcl.js``, which draws its own picture: the
-map, the particles, the reference and the estimate, with step and play buttons), the random
-numbers it embeds (:func:`particle_filter_draws`), its choice of beams
-(:func:`particle_filter_beams`) and :func:`particle_filter_decoded` (what the page decodes, for
-feeding :mod:`probrob.mcl` the same numbers). Does not hold the filter (:mod:`probrob.mcl`,
-which the kernel mirrors and ``tests/test_live_mcl.py`` holds it to, step by step).
+map, the particles, the reference and the estimate, the particle count over the steps, with
+step, play and kidnap buttons; the beam model's exact ray casting is ``assets/beam_model.js``),
+the random numbers it embeds (:func:`particle_filter_draws`), its choice of beams
+(:func:`particle_filter_beams`), where its kidnap button moves the particles
+(:func:`particle_filter_kidnap_target`) and :func:`particle_filter_decoded` (what the page
+decodes, for feeding :mod:`probrob.mcl` the same numbers). Does not hold the filters
+(:mod:`probrob.mcl`, which the kernel mirrors and ``tests/test_live_mcl.py`` holds it to, step
+by step).
 """
 
 from __future__ import annotations
@@ -26,6 +29,7 @@ __all__ = [
     "particle_filter_beams",
     "particle_filter_decoded",
     "particle_filter_draws",
+    "particle_filter_kidnap_target",
     "particle_filter_live",
 ]
 
@@ -37,6 +41,13 @@ PF_HEADING_BINS = 12
 PF_MAX_RANGE_CODE = 0xFFFF
 #: The most steps and map cells a page carries (its size budget is 400 kB).
 PF_MAX_STEPS, PF_MAX_CELLS = 300, 400_000
+#: KLD-sampling's histogram bins (x, y, θ) and its fewest particles (Table 8.4's defaults of
+#: :func:`probrob.mcl.kld_sampling_mcl`, but n_min: the particles slider's lower end).
+PF_KLD_BINS, PF_KLD_N_MIN = (0.5, 0.5, np.pi / 18), 100
+#: KLD-sampling's rounds past the first take their low-variance offsets from this many columns.
+PF_ROUNDS = 4
+#: The δ slider's step: the page looks z_{1-δ} up in a table over its values.
+PF_DELTA_STEP, PF_DELTA_MAX = 0.001, 0.2
 
 
 def particle_filter_draws(n_max=2000, steps=100, rng=0) -> dict[str, np.ndarray]:
@@ -55,10 +66,23 @@ def particle_filter_draws(n_max=2000, steps=100, rng=0) -> dict[str, np.ndarray]
     * ``"resample"`` shape ``(steps,)``: uniforms in [0, 1), the low-variance sampler's
       random number of each step (``offset`` of :func:`probrob.mcl.low_variance_sampler`);
     * ``"uniforms"`` shape ``(n_max, 4)``: uniforms ``k / 2**24`` (exact in float32) for a global
-      start (``uniforms`` of :func:`probrob.mcl.uniform_particles`).
+      start (``uniforms`` of :func:`probrob.mcl.uniform_particles`);
+    * ``"rounds"`` shape ``(steps, PF_ROUNDS)``: uniforms ``k / 2**24``, the low-variance
+      sampler's random number of KLD-sampling's rounds after the first (round ``r >= 1`` of
+      step ``t`` takes ``rounds[t - 1, (r - 1) % PF_ROUNDS]``; round 0 takes ``resample``);
+    * ``"shuffle"`` shape ``(steps, 2)``: integers, a start ``s`` in ``[0, 4 n_max)`` into the
+      ``uniforms`` read as one flat pool ``U`` of ``4 n_max``, and a row ``q`` in
+      ``[0, n_max)``. At step ``t`` augmented MCL's number of random particles (Table 8.3,
+      line 14, a binomial count) is the number of ``i < M`` with
+      ``U[(s + i) % 4 n_max] < max(0, 1 - w_fast / w_slow)``, and its ``c``-th random particle
+      is drawn from the uniforms' row ``(q + c) % n_max``. KLD-sampling puts each round's
+      indices (Table 8.4, line 8) in random order by Fisher-Yates, from the last index down,
+      swapping ``i`` with ``floor(u (i + 1))``, ``u`` the next of ``U[s], U[s + 1], ...``.
 
     The known start uses the pool's first ``3 n_max``: particle ``i`` is
-    ``start + spread * (normal[i], normal[n_max + i], normal[2 n_max + i])``.
+    ``start + spread * (normal[i], normal[n_max + i], normal[2 n_max + i])``. Motion noise of
+    KLD-sampling's particles: particle ``i`` of the step (counted over its rounds) reads the
+    pool as particle ``i`` of MCL does.
 
     Parameters
     ----------
@@ -83,7 +107,39 @@ def particle_filter_draws(n_max=2000, steps=100, rng=0) -> dict[str, np.ndarray]
         "offsets": gen.integers(0, pool, size=(steps, 3)),
         "resample": gen.random(steps),
         "uniforms": gen.integers(0, 2**24, size=(n_max, 4)) / 2.0**24,
+        "rounds": gen.integers(0, 2**24, size=(steps, PF_ROUNDS)) / 2.0**24,
+        "shuffle": np.column_stack(
+            [gen.integers(0, 4 * n_max, size=steps), gen.integers(0, n_max, size=steps)]
+        ),
     }
+
+
+def particle_filter_kidnap_target(truth, step) -> int:
+    r"""Return the step whose reference pose the live filter's kidnapping moves the particles to.
+
+    The kidnap button of :func:`particle_filter_live` kidnaps the robot after step ``k``
+    (``step``): the particle set :math:`\mathcal X_k` is replaced by
+    ``X - truth[k] + truth[s]`` (as the chapter's kidnapping does on the log), with ``s`` the
+    step whose reference position lies farthest from ``truth[k]`` (the first of equals), while
+    the robot itself, and the log, go on where they are.
+
+    Parameters
+    ----------
+    truth : array_like, shape (T + 1, 3)
+    step : int
+        ``k``, in [1, T].
+
+    Returns
+    -------
+    s : int
+    """
+    truth = check.poses(truth, "truth")
+    if truth.ndim != 2:
+        raise ValueError(f"truth must have shape (T + 1, 3), got {truth.shape}")
+    k = check.count(step, "step", 1)
+    if k >= truth.shape[0]:
+        raise ValueError(f"step must lie in [1, T = {truth.shape[0] - 1}], got {k}")
+    return int(np.argmax(np.hypot(*(truth[:, :2] - truth[k, :2]).T)))
 
 
 def particle_filter_beams(total, k) -> np.ndarray:
@@ -147,6 +203,8 @@ def particle_filter_decoded(widget: LiveWidget) -> dict[str, np.ndarray]:
         "offsets": raw("offsets", "<u4").reshape(steps, 3).astype(np.intp),
         "resample": raw("resample", "<f8"),
         "uniforms": raw("uniforms", "<f4").reshape(n_max, 4).astype(np.float64),
+        "rounds": raw("rounds", "<f4").reshape(steps, PF_ROUNDS).astype(np.float64),
+        "shuffle": raw("shuffle", "<u4").reshape(steps, 2).astype(np.intp),
     }
 
 
@@ -191,14 +249,29 @@ def _check_model(grid, alpha, params):
         raise ValueError(f"params must be a BeamModelParams, got {type(params).__name__}")
     if params.z_hit + params.z_rand <= 0:
         raise ValueError("params must have z_hit + z_rand > 0 (the likelihood field's weights)")
+    if params.max_range < 1.0:
+        raise ValueError(
+            f"params.max_range must be at least 1 m (the σ_hit slider's end), got "
+            f"{params.max_range!r}"
+        )
     return grid, [s.value for s in alpha]
 
 
 def _controls(steps, n_beams, alpha, params, start, view, n_particles, n_max, beams, exponent,
-              step):  # fmt: skip
+              step, sensor, method, recovery, kld, kidnap):  # fmt: skip
     """The sliders and choices of the filter, their start values checked and snapped."""
     check.choice(start, "start", ("known", "global"))
     check.choice(view, "view", ("map", "robot"))
+    check.choice(sensor, "sensor", ("likelihood_field", "beam"))
+    check.choice(method, "method", ("mcl", "augmented", "kld"))
+    alpha_slow, alpha_fast = recovery
+    epsilon, delta = kld
+    from ..mcl import _kld_constants
+
+    _kld_constants(epsilon, delta)  # epsilon > 0, delta in (0, 1/2), or a ValueError naming it
+    kidnap = check.count(kidnap, "kidnap", 0)
+    if kidnap > steps:
+        raise ValueError(f"kidnap must lie in [0, T = {steps}] (0: never), got {kidnap}")
     n_max = check.count(n_max, "n_max", 100)
     if n_max > 5000 or n_max % 100:
         raise ValueError(f"n_max must be a multiple of 100 in [100, 5000], got {n_max}")
@@ -227,12 +300,42 @@ def _controls(steps, n_beams, alpha, params, start, view, n_particles, n_max, be
             "n", "particles", _snap(n_particles, "n_particles", 100, n_max, 100), 100.0,
             float(n_max), 100.0, snap=True,
         ),
+        Slider("aslow", "α_slow", _snap(alpha_slow, "alpha_slow", 0, 0.04, 1e-4), 0.0, 0.04, 1e-4),
+        Slider(
+            "afast", "α_fast", _snap(alpha_fast, "alpha_fast", 0.05, 1, 1e-3), 0.05, 1.0, 1e-3
+        ),
+        Slider("eps", "ε (KLD)", _snap(epsilon, "epsilon", 0.01, 0.5, 0.005), 0.01, 0.5, 0.005),
+        Slider(
+            "delta", "δ (KLD)", _snap(delta, "delta", PF_DELTA_STEP, PF_DELTA_MAX, PF_DELTA_STEP),
+            PF_DELTA_STEP, PF_DELTA_MAX, PF_DELTA_STEP, snap=True,
+        ),
+        Slider("kidnap", "kidnap after step", float(kidnap), 0.0, float(steps), 1.0, snap=True),
     ]  # fmt: skip
     choices = [
         Choice("start", "start", (("known", "known pose"), ("global", "uniform (global)")), start),
         Choice("view", "view", (("map", "whole map"), ("robot", "around the robot")), view),
-    ]
+        Choice(
+            "sensor", "sensor",
+            (("likelihood_field", "likelihood field (Table 6.3)"), ("beam", "beam model (Table 6.1)")),
+            sensor,
+        ),
+        Choice(
+            "method", "method",
+            (("mcl", "MCL (Table 8.2)"), ("augmented", "augmented MCL (Table 8.3)"),
+             ("kld", "KLD-sampling (Table 8.4)")),
+            method,
+        ),
+    ]  # fmt: skip
     return sliders, choices, n_max
+
+
+def _kld_quantiles() -> list[float]:
+    """z_{1-δ} of every value of the δ slider, k times its step for k = 1 .. 200 (the page's
+    snapped values, the same product), as :func:`probrob.mcl.kld_sample_size` computes it."""
+    from ..mcl import _kld_constants
+
+    count = round(PF_DELTA_MAX / PF_DELTA_STEP)
+    return [_kld_constants(1.0, k * PF_DELTA_STEP)[1] for k in range(1, count + 1)]
 
 
 def _data(u, z, truth, angles, params, draws) -> dict[str, str]:
@@ -246,19 +349,29 @@ def _data(u, z, truth, angles, params, draws) -> dict[str, str]:
         "offsets": b64(draws["offsets"], "<u4"),
         "resample": b64(draws["resample"]),
         "uniforms": b64(draws["uniforms"], "<f4"),
+        "rounds": b64(draws["rounds"], "<f4"),
+        "shuffle": b64(draws["shuffle"], "<u4"),
     }
 
 
 def _caption(steps) -> str:
     return (
-        f"One step of Table 8.2 per scan, {steps} scans of the log: every particle moves by the "
-        "odometry model (Table 5.6) with the α of the sliders, is weighted by the likelihood "
-        "field (Table 6.3) of the chosen beams, and the set is redrawn by the low-variance "
-        "sampler (Table 4.4). {Black|White}: occupied cells; {white|dark}: free; grey: "
-        "unexplored. Green: the reference (corrected) path and pose; blue arrow: the estimate "
-        f"(the heaviest cluster, {PF_RADIUS} m cells and {360 // PF_HEADING_BINS}° of heading). "
-        "Moving a slider re-runs the filter from the start on the same random numbers. Step, "
-        "play or drag the step slider."
+        f"One filter step per scan, {steps} scans of the log: every particle moves by the "
+        "odometry model (Table 5.6) with the α of the sliders, is weighted by the chosen sensor "
+        "model (the likelihood field of Table 6.3, or the beam model of Table 6.1 with its "
+        "ranges ray-cast in the page) of the chosen beams, and the set is redrawn by the "
+        "low-variance sampler (Table 4.4). MCL is Table 8.2; augmented MCL (Table 8.3) adds "
+        "random particles when the fast average of the likelihood w_fast falls below the slow "
+        "one w_slow (α_slow, α_fast); KLD-sampling (Table 8.4) draws as many particles as the "
+        "bound of ε and δ asks for the bins they occupy. The kidnap button kidnaps the robot "
+        "after the step shown: the particles are moved by the difference between the reference "
+        "pose farthest from the robot and the robot's, while the robot and the log go on "
+        "(the kidnap slider holds the step; 0: never). {Black|White}: occupied cells; "
+        "{white|dark}: free; grey: unexplored. Green: the reference (corrected) path and pose; "
+        "blue arrow: the estimate (the heaviest cluster, "
+        f"{PF_RADIUS} m cells and {360 // PF_HEADING_BINS}° of heading). Below: the particles "
+        "per step (and augmented MCL's random ones). Moving a slider re-runs the filter from "
+        "the start on the same random numbers. Step, play or drag the step slider."
     )
 
 
@@ -279,29 +392,55 @@ def particle_filter_live(
     exponent=1.0,
     step=0,
     view="map",
+    sensor="likelihood_field",
+    method="mcl",
+    alpha_slow=0.001,
+    alpha_fast=0.1,
+    epsilon=0.05,
+    delta=0.01,
+    kidnap=0,
     rng=0,
-    title="Monte Carlo localization (Table 8.2)",
+    title="Monte Carlo localization (Tables 8.2-8.4)",
     width=600,
-    height=560,
+    height=700,
 ) -> LiveWidget:
-    r"""Return a live particle filter: MCL (Table 8.2) over a stretch of a laser log, in the page.
+    r"""Return a live particle filter: MCL, augmented MCL or KLD-sampling over a stretch of a laser log, in the page.
 
     The reader moves :math:`\alpha_1 \ldots \alpha_4` (the odometry model, Table 5.6),
     :math:`\sigma_{hit}`, the share :math:`z_{rand} / (z_{hit} + z_{rand})` (their sum held at
     ``params``'s), the number of beams (spread evenly by :func:`particle_filter_beams`), the
     exponent of the beam product (:func:`probrob.mcl.measurement_log_weights`) and the number
-    of particles, chooses a known or a global start, and steps or plays the filter: one step
-    is :func:`probrob.mcl.mcl` with the likelihood field (Table 6.3) and the low-variance
-    sampler (Table 4.4). The canvas shows the map, the particles, the corrected pose
-    (``truth``) and :func:`probrob.mcl.estimate_pose` with radius ``PF_RADIUS`` and
-    ``PF_HEADING_BINS`` heading sectors; the text
-    under it the estimate's error. Moving a slider re-runs the filter from the start to the
-    step shown, on the same random numbers (:func:`particle_filter_draws`).
+    of particles, chooses a known or a global start, the sensor model and the filter, and
+    steps or plays it. One step is, by the "method" choice,
 
-    The page embeds the map's cells (2 bits each) and computes the exact distance field and
-    the likelihood-field table in the browser, so that the JavaScript computes what
-    :mod:`probrob.mcl` computes on ``grid``: ``tests/test_live_mcl.py`` holds the two equal
-    in Chromium, step by step, resampling included.
+    * ``"mcl"``: :func:`probrob.mcl.mcl` (Table 8.2), the low-variance sampler (Table 4.4);
+    * ``"augmented"``: :func:`probrob.mcl.augmented_mcl` (Table 8.3) with the
+      :math:`\alpha_{slow}`, :math:`\alpha_{fast}` sliders, :math:`w_{slow} = w_{fast} = 0`
+      at the start; the status text shows both averages, their ratio and the random particles;
+    * ``"kld"``: :func:`probrob.mcl.kld_sampling_mcl` (Table 8.4) with the :math:`\varepsilon`,
+      :math:`\delta` sliders, the bins ``PF_KLD_BINS``, at least ``PF_KLD_N_MIN`` and at
+      most ``n_max`` particles (the particles slider sets the initial set); its weighted sets
+      go on to the next step and into the estimate, as :func:`probrob.mcl.run_mcl` passes them;
+
+    with the sensor of the "sensor" choice: the likelihood field (Table 6.3) or the beam model
+    (Table 6.1, :func:`probrob.sensors.beam_range_finder_model`, its expected ranges ray-cast in
+    the page by the exact traversal of :func:`probrob.maps.ray_cast`; ``params.z_short``,
+    ``params.z_max`` and ``params.lambda_short`` fixed). The kidnap button kidnaps the robot
+    after the step shown (the "kidnap after step" slider, 0: never): the particle set of that
+    step is moved by ``truth[s] - truth[k]`` (:func:`particle_filter_kidnap_target`), as
+    ``run_mcl(on_step=...)`` does in the chapter, and the filter goes on with the log.
+
+    The canvas shows the map, the particles, the corrected pose (``truth``) and
+    :func:`probrob.mcl.estimate_pose` with radius ``PF_RADIUS`` and ``PF_HEADING_BINS`` heading
+    sectors (weighted, for KLD-sampling), and below it the number of particles per step (and
+    augmented MCL's random ones); the text under it the estimate's error. Moving a slider
+    re-runs the filter from the start to the step shown, on the same random numbers
+    (:func:`particle_filter_draws`).
+
+    The page embeds the map's cells (2 bits each) and computes the exact distance field, the
+    likelihood-field table and the ray casting in the browser, so that the JavaScript computes
+    what :mod:`probrob.mcl` computes on ``grid``: ``tests/test_live_mcl.py`` holds the two
+    equal in Chromium, step by step, for every sensor and method, resampling included.
 
     Parameters
     ----------
@@ -316,8 +455,9 @@ def particle_filter_live(
     alpha : array_like, shape (4,)
         Start values of :math:`\alpha_1 \ldots \alpha_4` (variance form), in [0, 0.5].
     params : BeamModelParams
-        ``sigma_hit`` (in [0.01, 1] m), ``z_hit``, ``z_rand`` (their split is a slider) and
-        ``max_range``.
+        ``sigma_hit`` (in [0.01, 1] m), ``z_hit``, ``z_rand`` (their split is a slider),
+        ``max_range`` (at least 1 m) and, for the beam model, ``z_short``, ``z_max`` and
+        ``lambda_short``.
     truth : array_like, shape (T + 1, 3)
         The reference poses (e.g. the log's corrected poses): the known start is
         ``truth[0]``, the error of step ``t`` is against ``truth[t]``.
@@ -338,6 +478,18 @@ def particle_filter_live(
         The step shown first, in [0, T].
     view : {"map", "robot"}
         The whole map, or a 12 m square around the reference pose.
+    sensor : {"likelihood_field", "beam"}
+        Start value of the sensor choice.
+    method : {"mcl", "augmented", "kld"}
+        Start value of the method choice.
+    alpha_slow, alpha_fast : float
+        Start values of Table 8.3's decay rates, in [0, 0.04] and [0.05, 1] (so that
+        :math:`\alpha_{slow} < \alpha_{fast}` anywhere on the sliders).
+    epsilon, delta : float
+        Start values of Table 8.4's :math:`\varepsilon` in [0.01, 0.5] and :math:`\delta` in
+        [0.001, 0.2] (a multiple of 0.001).
+    kidnap : int
+        Start value of the "kidnap after step" slider, in [0, T] (0: no kidnapping).
     rng : None, int or numpy.random.Generator
         Seed of :func:`particle_filter_draws`.
     title : str
@@ -359,8 +511,9 @@ def particle_filter_live(
     if spread.shape != (3,) or np.any(spread < 0):
         raise ValueError(f"spread must be 3 standard deviations >= 0, got {spread.tolist()}")
     sliders, choices, n_max = _controls(
-        steps, angles.size, alpha, params, start, view, n_particles, n_max, beams, exponent, step
-    )
+        steps, angles.size, alpha, params, start, view, n_particles, n_max, beams, exponent, step,
+        sensor, method, (alpha_slow, alpha_fast), (epsilon, delta), kidnap,
+    )  # fmt: skip
     h, w = grid.shape
     config = {
         "kernel": "mcl",
@@ -370,7 +523,13 @@ def particle_filter_live(
         "beamsTotal": int(angles.size),
         "nMax": n_max,
         **spec(sliders, choices),
-        "buttons": (("step", "step"), ("play", "play"), ("start", "to start"), ("reset", "reset")),
+        "buttons": (
+            ("step", "step"),
+            ("play", "play"),
+            ("start", "to start"),
+            ("kidnap", "kidnap"),
+            ("reset", "reset"),
+        ),
         "status": True,
         "constants": {
             "zSum": params.z_hit + params.z_rand,
@@ -378,6 +537,14 @@ def particle_filter_live(
             "radius": PF_RADIUS,
             "headingBins": PF_HEADING_BINS,
             "spread": spread.tolist(),
+            "zShort": params.z_short,
+            "zMaxWeight": params.z_max,
+            "lambdaShort": params.lambda_short,
+            "kldBins": list(PF_KLD_BINS),
+            "kldMin": PF_KLD_N_MIN,
+            "kldRounds": PF_ROUNDS,
+            "deltaStep": PF_DELTA_STEP,
+            "kldZ": _kld_quantiles(),
         },
         "map": {
             "h": h,
@@ -395,8 +562,9 @@ def particle_filter_live(
         caption=_caption(steps),
         aria_label=(
             "Map of the building with the particle cloud of Monte Carlo localization (red dots), "
-            "the reference pose (green circle) and the filter's estimate (blue arrow)."
+            "the reference pose (green circle) and the filter's estimate (blue arrow); below it, "
+            "the number of particles per step."
         ),
-        scripts=("maths.js", "likelihood_field.js", "mcl.js"),
+        scripts=("maths.js", "likelihood_field.js", "beam.js", "beam_model.js", "mcl.js"),
         budgets={"size-budget": 400_000, "update-budget": 16},
     )

@@ -1,0 +1,158 @@
+// Kernel of Table 6.1, the beam model of a whole scan: the exact ray casting of its expected
+// ranges z* (probrob.maps.ray_cast, the "hybrid" traversal of the compiled _cast_hybrid:
+// sphere tracing across open space, then Amanatides-Woo steps that skip what the distance
+// field proves free) and the mixture p(z | z*) in log space (probrob.sensors._mixture, with
+// its fall-back to log components where the linear sum underflows). Written operation for
+// operation as probrob writes them (IEEE double precision, no fused operations, as numba
+// compiles them), so that the ranges agree to the last bit but where Math.cos and numpy's cos
+// differ in theirs; held to probrob.mcl with sensor="beam" by tests/test_live_mcl.py. Uses
+// normalCdf of beam.js (Φ, for p_hit's normaliser) and the distance field of
+// likelihood_field.js. Widget: probrob.live.mcl.particle_filter_live, whose kernel mcl.js
+// weighs the particles with beamScanLogLikelihood.
+
+// probrob.maps._HALF_DIAGONAL and _PULL_BACK; the smallest normal double (_TINY)
+const HALF_DIAGONAL = Math.sqrt(0.5) + 1e-9;
+const PULL_BACK = 1e-10;
+const TINY = 2.2250738585072014e-308;
+
+// probrob.maps.OccupancyGrid._traversal_tables: padded by one ring, the cell codes (0 free, 1
+// occupied, 2 outside) and a lower bound (in cells) of the distance from any point of a cell
+// to any occupied cell, from the metric distance field `dist` (h x w)
+function traversalTables(codes, dist, h, w, res) {
+  const W2 = w + 2;
+  const code = new Uint8Array((h + 2) * W2).fill(2);
+  const free = new Float64Array((h + 2) * W2);
+  for (let i = 0; i < h; i++) {
+    for (let j = 0; j < w; j++) {
+      code[(i + 1) * W2 + j + 1] = codes[i * w + j] === 2 ? 1 : 0;
+      free[(i + 1) * W2 + j + 1] = dist[i * w + j] / res - 2.0 * HALF_DIAGONAL;
+    }
+  }
+  return { code, free, h, w };
+}
+
+function floorClip(v, lo, hi) {
+  return Math.min(Math.max(Math.floor(v), lo), hi);
+}
+
+// probrob.maps._cast_hybrid for one ray from (x0, y0) along (dx, dy), all in cell units:
+// the range in cells (t_max when nothing is hit). Its proven bounds (_step_bounds) hold here
+// too; the loops stop at them.
+function castRay(tab, x0, y0, dx, dy, tMax) {
+  const { code, free, h, w } = tab;
+  const W2 = w + 2;
+  if (dx !== 0 && Math.abs(dx) < TINY) dx = Math.sign(dx) * TINY; // probrob.maps._ray
+  if (dy !== 0 && Math.abs(dy) < TINY) dy = Math.sign(dy) * TINY;
+  // sphere tracing alone while the free radius exceeds a cell (_sphere_jump)
+  let t = 0;
+  for (let n = 0; n <= h + w + 4; n++) {
+    const jj = floorClip(x0 + t * dx, -1, w);
+    const ii = floorClip(y0 + t * dy, -1, h);
+    const f = free[(ii + 1) * W2 + jj + 1];
+    if (!(f > 1 && t < tMax)) break;
+    t = Math.min(t + f, tMax);
+  }
+  // then the traversal (_crossing, _hybrid_step), from positions pulled back along the ray
+  const invDx = dx !== 0 ? 1 / dx : 1;
+  const cx = dx !== 0 ? (dx > 0 ? 1 : 0) - x0 : Infinity;
+  const invDy = dy !== 0 ? 1 / dy : 1;
+  const cy = dy !== 0 ? (dy > 0 ? 1 : 0) - y0 : Infinity;
+  const sx = dx > 0 ? 1 : -1;
+  const sy = dy > 0 ? 1 : -1;
+  const bx = x0 - (dx !== 0 ? sx * PULL_BACK : 0);
+  const by = y0 - (dy !== 0 ? sy * PULL_BACK : 0);
+  const [lox, hix] = sx > 0 ? [0, w] : [-1, w - 1];
+  const [loy, hiy] = sy > 0 ? [0, h] : [-1, h - 1];
+  const moved = t > 0;
+  let j = floorClip(moved ? bx + t * dx : x0, lox, hix);
+  let i = floorClip(moved ? by + t * dy : y0, loy, hiy);
+  for (let n = 0; n <= h + w + 4; n++) {
+    const cell = (i + 1) * W2 + j + 1;
+    const c = code[cell];
+    if (c !== 0 || t >= tMax) return c === 1 && t < tMax ? t : tMax;
+    const tx = (j + cx) * invDx;
+    const ty = (i + cy) * invDy;
+    const tDda = Math.max(Math.min(tx, ty), t);
+    const tJump = Math.min(t + free[cell], tMax);
+    if (tJump > tDda) {
+      let jj = floorClip(bx + tJump * dx, -1, w);
+      let ii = floorClip(by + tJump * dy, -1, h);
+      jj = sx > 0 ? Math.max(jj, j) : Math.min(jj, j);
+      ii = sy > 0 ? Math.max(ii, i) : Math.min(ii, i);
+      if (jj !== j || ii !== i) {
+        t = tJump;
+        i = ii;
+        j = jj;
+        continue;
+      }
+    }
+    t = tDda;
+    if (tx <= ty) j += sx;
+    else i += sy;
+  }
+  return NaN; // beyond the proven bound: a bug (probrob raises RuntimeError)
+}
+
+// The mixture's constants for BeamModelParams-like p: {zHit, zShort, zMax (weight), zRand,
+// sigma, lambda, maxRange}
+function beamMixture(p) {
+  const sigma = p.sigma;
+  const zmax = p.maxRange;
+  const lam = p.lambda;
+  const hitScale = p.zHit / (sigma * Math.sqrt(2.0 * Math.PI));
+  const logW = [p.zHit, p.zShort, p.zMax, p.zRand].map((v) => (v > 0 ? Math.log(v) : -Infinity));
+  const mass = (zs) => normalCdf((zmax - zs) / sigma) - normalCdf(-zs / sigma); // _hit_mass
+  const massAtMax = mass(zmax); // the most common z*: a beam that hits nothing
+  const hitMass = (zs) => (zs === zmax ? massAtMax : mass(zs));
+  // probrob.sensors._log_components and their logsumexp: the fall-back where the sum is 0
+  function logComponents(z, zs) {
+    const u = (z - zs) / sigma;
+    const lc = [
+      -0.5 * u * u - Math.log(sigma) - LOG_SQRT_2PI - Math.log(hitMass(zs)),
+      zs > 0 ? Math.log(lam) - lam * z - Math.log(-Math.expm1(-lam * zs)) : z === 0 ? Infinity : -Infinity,
+      z >= zmax ? 0 : -Infinity,
+      z >= zmax ? -Infinity : -Math.log(zmax),
+    ];
+    if (!(z <= zs)) lc[1] = -Infinity;
+    let m = -Infinity;
+    const terms = lc.map((l, k) => (logW[k] > -Infinity ? l + logW[k] : -Infinity));
+    for (const a of terms) if (a > m) m = a;
+    if (m === Infinity) return Infinity;
+    const fm = Number.isFinite(m) ? m : 0;
+    let s = 0;
+    for (const a of terms) s += Math.exp(a - fm);
+    return Math.log(s) + fm;
+  }
+  // log p(z | z*) of one beam, z already capped at z_max (probrob.sensors._mixture)
+  return function logMixture(z, zs) {
+    const u = (z - zs) / sigma;
+    let q = hitScale * Math.exp(-0.5 * u * u);
+    if (zs < 9.0 * sigma || zs > zmax - 9.0 * sigma) q /= hitMass(zs);
+    if (p.zShort > 0) {
+      let short;
+      if (zs > 0) short = (lam * Math.exp(-lam * z)) / -Math.expm1(-lam * zs);
+      else short = z === 0 ? Infinity : 0;
+      q += p.zShort * (z <= zs ? short : 0);
+    }
+    q += z >= zmax ? p.zMax : p.zRand / zmax;
+    if (q === 0 || (q === Infinity && zs !== 0)) return logComponents(z, zs);
+    return Math.log(q);
+  };
+}
+
+// Table 6.1: sum over the beams of log p(z^k | z^k*) at the pose (gx, gy) in grid units,
+// heading th: z (metres, capped at z_max) and the beams' cos/sin (ca, sa); the rays' z* in
+// cells, times the resolution, capped at z_max (probrob.maps._cast)
+function beamScanLogLikelihood(tab, logMixture, z, ca, sa, gx, gy, th, res, maxRange) {
+  const ct = Math.cos(th);
+  const st = Math.sin(th);
+  const tMax = maxRange / res;
+  let lp = 0;
+  for (let k = 0; k < z.length; k++) {
+    const dx = ct * ca[k] - st * sa[k];
+    const dy = st * ca[k] + ct * sa[k];
+    const zs = Math.min(castRay(tab, gx, gy, dx, dy, tMax) * res, maxRange);
+    lp += logMixture(z[k], zs);
+  }
+  return lp;
+}
