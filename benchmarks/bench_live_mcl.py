@@ -3,9 +3,12 @@
 Builds ``probrob.widgets.particle_filter_live`` on the Intel lab's first 100 steps as the MCL
 chapter shows it (the 10 cm map from the corrected scans, the fitted beam parameters), opens it
 in headless Chromium (``.ci/cdp.py``) and times, through the widget's ``bench`` hook, 100 filter
-steps (Table 8.2 and the estimate, then the redraw) at 500 and 2,000 particles, 60 beams, from
-the known and the global start; best median of three runs (the machine is shared). Then one
-slider move at the last step, which re-runs the 100 steps. Needs Chromium and the Intel log.
+steps (one step and the estimate, then the redraw) at 500 and 2,000 particles, 60 beams, from
+the known and the global start, for every sensor (likelihood field, beam model) and method
+(MCL, augmented MCL, KLD-sampling: Tables 8.2-8.4; KLD-sampling's set then holds as many
+particles as its bound asks, at most 2,000); best median of three runs (the machine is shared).
+Then one slider move at the last step, which re-runs the 100 steps. Needs Chromium and the
+Intel log.
 
     MPLBACKEND=Agg .venv/bin/python benchmarks/bench_live_mcl.py
 """
@@ -42,16 +45,27 @@ def main() -> None:
         try:
             tab = cdp.Tab.open(browser, page.as_uri())
             w = "probrobLive.widgets[0]"
-            for start in ("known", "global"):
-                for n in (500, 2000):
-                    tab.js(f"{w}.set({{n: {n}, start: '{start}', beams: 60}})")
-                    runs = [tab.js(f"{w}.bench(100)", timeout=300) for _ in range(3)]
-                    b = min(runs, key=lambda r: r["total"]["median"])
-                    print(
-                        f"{start:6s} start, {n:4d} particles: {b['total']['median']:.1f} ms per "
-                        f"step (median of 100; compute {b['compute']['median']:.1f}, draw "
-                        f"{b['draw']['median']:.1f}; 90th percentile {b['total']['p90']:.1f})"
-                    )
+            modes = [
+                (sensor, method)
+                for sensor in ("likelihood_field", "beam")
+                for method in ("mcl", "augmented", "kld")
+            ]
+            for sensor, method in modes:
+                for start in ("known", "global"):
+                    for n in (500, 2000):
+                        tab.js(
+                            f"{w}.set({{n: {n}, start: '{start}', beams: 60, "
+                            f"sensor: '{sensor}', method: '{method}'}})"
+                        )
+                        runs = [tab.js(f"{w}.bench(100)", timeout=600) for _ in range(3)]
+                        b = min(runs, key=lambda r: r["total"]["median"])
+                        print(
+                            f"{sensor:16s} {method:9s} {start:6s} start, {n:4d} particles: "
+                            f"{b['total']['median']:.1f} ms per step (median of 100; compute "
+                            f"{b['compute']['median']:.1f}, draw {b['draw']['median']:.1f}; "
+                            f"90th percentile {b['total']['p90']:.1f})"
+                        )
+            tab.js(f"{w}.set({{sensor: 'likelihood_field', method: 'mcl'}})")
             for n in (500, 2000):
                 ms = tab.js(
                     f"(() => {{ const w = {w}; w.set({{n: {n}, start: 'known', t: 100}});"

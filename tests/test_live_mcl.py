@@ -886,10 +886,15 @@ def test_keyboard_steps_the_filter_and_the_buttons_play_it(page):
     assert page.js(f"JSON.stringify({w}.values()) === JSON.stringify({w}.defaults())")
 
 
-def test_bench_hook_times_filter_steps(page):
+@pytest.mark.parametrize(
+    "sensor, method",
+    [(s, m) for s in ("likelihood_field", "beam") for m in ("mcl", "augmented", "kld")],
+)
+def test_bench_hook_times_filter_steps(page, sensor, method):
+    """The bench hook (benchmarks/bench_live_mcl.py) times every sensor and method."""
     index, _ = page.widgets["room"]
     w = f"probrobLive.widgets[{index}]"
-    page.js(f"{w}.set({{t: 7, n: 400}})")
+    page.js(f"{w}.set({{t: 7, n: 400, sensor: '{sensor}', method: '{method}', kidnap: 3}})")
     before = page.js(f"{w}.state()")
     out = page.js(f"{w}.bench(60)", timeout=120)  # 60 steps: the run of 40 restarts once
     assert out["count"] == 60

@@ -31,8 +31,10 @@ function traversalTables(codes, dist, h, w, res) {
   return { code, free, h, w };
 }
 
+// clip(floor(v), lo, hi) for integers lo < hi (probrob.maps._floor_clip): v below lo floors
+// below lo, v above hi floors to hi or above, so the clip comes first (NaN stays NaN)
 function floorClip(v, lo, hi) {
-  return Math.min(Math.max(Math.floor(v), lo), hi);
+  return v < lo ? lo : v > hi ? hi : Math.floor(v);
 }
 
 // probrob.maps._cast_hybrid for one ray from (x0, y0) along (dx, dy), all in cell units:
@@ -61,11 +63,9 @@ function castRay(tab, x0, y0, dx, dy, tMax) {
   const sy = dy > 0 ? 1 : -1;
   const bx = x0 - (dx !== 0 ? sx * PULL_BACK : 0);
   const by = y0 - (dy !== 0 ? sy * PULL_BACK : 0);
-  const [lox, hix] = sx > 0 ? [0, w] : [-1, w - 1];
-  const [loy, hiy] = sy > 0 ? [0, h] : [-1, h - 1];
   const moved = t > 0;
-  let j = floorClip(moved ? bx + t * dx : x0, lox, hix);
-  let i = floorClip(moved ? by + t * dy : y0, loy, hiy);
+  let j = floorClip(moved ? bx + t * dx : x0, sx > 0 ? 0 : -1, sx > 0 ? w : w - 1);
+  let i = floorClip(moved ? by + t * dy : y0, sy > 0 ? 0 : -1, sy > 0 ? h : h - 1);
   for (let n = 0; n <= h + w + 4; n++) {
     const cell = (i + 1) * W2 + j + 1;
     const c = code[cell];
@@ -93,16 +93,27 @@ function castRay(tab, x0, y0, dx, dy, tMax) {
   return NaN; // beyond the proven bound: a bug (probrob raises RuntimeError)
 }
 
+// Φ(x) of beam.js's normalCdf, and exactly 1 from x = 8.5 on, where 1 - Φ(-x) < 2^-54 rounds
+// to 1 in both normalCdf and scipy's ndtr (the normaliser of p_hit of a beam far from z_max)
+function normalCdfOne(x) {
+  return x >= 8.5 ? 1 : normalCdf(x);
+}
+
 // The mixture's constants for BeamModelParams-like p: {zHit, zShort, zMax (weight), zRand,
 // sigma, lambda, maxRange}
 function beamMixture(p) {
   const sigma = p.sigma;
   const zmax = p.maxRange;
   const lam = p.lambda;
+  const zShort = p.zShort;
   const hitScale = p.zHit / (sigma * Math.sqrt(2.0 * Math.PI));
+  const atMax = p.zMax;
+  const rand = p.zRand / zmax;
+  const nearLow = 9.0 * sigma;
+  const nearHigh = zmax - 9.0 * sigma;
   const logW = [p.zHit, p.zShort, p.zMax, p.zRand].map((v) => (v > 0 ? Math.log(v) : -Infinity));
-  const mass = (zs) => normalCdf((zmax - zs) / sigma) - normalCdf(-zs / sigma); // _hit_mass
-  const massAtMax = mass(zmax); // the most common z*: a beam that hits nothing
+  const mass = (zs) => normalCdfOne((zmax - zs) / sigma) - normalCdfOne(-zs / sigma); // _hit_mass
+  const massAtMax = mass(zmax); // the most common z* far from the walls: a beam that hits nothing
   const hitMass = (zs) => (zs === zmax ? massAtMax : mass(zs));
   // probrob.sensors._log_components and their logsumexp: the fall-back where the sum is 0
   function logComponents(z, zs) {
@@ -127,14 +138,14 @@ function beamMixture(p) {
   return function logMixture(z, zs) {
     const u = (z - zs) / sigma;
     let q = hitScale * Math.exp(-0.5 * u * u);
-    if (zs < 9.0 * sigma || zs > zmax - 9.0 * sigma) q /= hitMass(zs);
-    if (p.zShort > 0) {
+    if (zs < nearLow || zs > nearHigh) q /= hitMass(zs);
+    if (zShort > 0) {
       let short;
       if (zs > 0) short = (lam * Math.exp(-lam * z)) / -Math.expm1(-lam * zs);
       else short = z === 0 ? Infinity : 0;
-      q += p.zShort * (z <= zs ? short : 0);
+      q += zShort * (z <= zs ? short : 0);
     }
-    q += z >= zmax ? p.zMax : p.zRand / zmax;
+    q += z >= zmax ? atMax : rand;
     if (q === 0 || (q === Infinity && zs !== 0)) return logComponents(z, zs);
     return Math.log(q);
   };
