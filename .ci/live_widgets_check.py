@@ -5,7 +5,12 @@ page, that
   * it started (``data-ready``) and draws in the page's colour mode (its hook's ``state().mode``
     is ``<html data-theme>``, light if the page has none);
   * every slider moves with the keyboard, as a reader would move it (five steps right, or left
-    from the slider's end), and that the slider's value, its number box and the canvas change.
+    from the slider's end), and that the slider's value, its number box and the canvas change
+    (a slider that changes nothing under the widget's first options, as the particle filter's
+    α_slow under MCL, is moved again under each option of each choice until it does);
+  * every option of every choice (``<select>``) redraws the canvas, and so does every button
+    that is not one of the runtime's or the player's (step, play, to start, reset, fit view):
+    the particle filter's kidnap button; each is then set back.
 In the full view (1280 px, light) it also
   * times 100 updates (all particles + the density grid, drawn) with ``performance.now()`` in the
     page, through the widget's ``bench`` hook, and asserts the median is within the budget (up
@@ -40,6 +45,12 @@ Array.from(document.querySelectorAll(".probrob-live")).map((el) => {
     sizeBudget: Number(el.dataset.sizeBudget || 0),
     updateBudget: Number(el.dataset.updateBudget || 0),
     sliders: Array.from(el.querySelectorAll('input[type="range"]')).map((s) => s.dataset.param),
+    choices: Array.from(el.querySelectorAll("select")).map((s) => ({
+      name: s.dataset.param,
+      value: s.value,
+      options: Array.from(s.options).map((o) => o.value),
+    })),
+    buttons: Array.from(el.querySelectorAll("button[data-action]")).map((b) => b.dataset.action),
     mode: hook ? hook.state().mode : null,
     pageMode: document.documentElement.dataset.theme || "light",
   };
@@ -83,6 +94,40 @@ JS_SET = """
   return r.value;
 })()
 """
+
+JS_CHOOSE = """
+(() => {
+  const el = document.getElementById(%s);
+  const s = el.querySelector("select[data-param=" + JSON.stringify(%s) + "]");
+  s.value = %s;
+  s.dispatchEvent(new Event("change", {bubbles: true}));
+  return s.value;
+})()
+"""
+
+JS_CLICK = """
+(() => {
+  const el = document.getElementById(%s);
+  el.querySelector("button[data-action=" + JSON.stringify(%s) + "]").click();
+  return true;
+})()
+"""
+
+JS_VALUES = """
+(() => probrobLive.widgets.find((h) => h.id === %s).values())()
+"""
+
+JS_RESTORE = """
+(() => { probrobLive.widgets.find((h) => h.id === %s).set(%s); return true; })()
+"""
+
+JS_DEFAULTS = """
+(() => { const w = probrobLive.widgets.find((h) => h.id === %s); w.set(w.defaults()); return true; })()
+"""
+
+# The buttons of the runtime and of a player (step, play, to start): the others are a widget's
+# own actions (the particle filter's kidnap), each of which must redraw.
+OWN_BUTTONS = ("step", "play", "start", "reset", "fit")
 
 JS_TWO_FRAMES = "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))"
 
@@ -143,6 +188,82 @@ def move_sliders(page, wid: str, sliders: list[str]) -> tuple[list[str], list[st
     return moved, stuck
 
 
+def _choose(page, wid: str, name: str, value: str) -> None:
+    page.js(JS_CHOOSE % (wid, json.dumps(name), json.dumps(value)))
+    page.js(JS_TWO_FRAMES)
+
+
+def move_choices(page, wid: str, choices: list[dict]) -> tuple[list[str], list[str]]:
+    """Select every other option of every choice of widget ``wid`` (each must redraw the
+    canvas), then the first option again; return (what moved, what did not redraw)."""
+    moved, stuck = [], []
+    for c in choices:
+        for option in c["options"]:
+            if option == c["value"]:
+                continue
+            canvas = page.js(JS_CANVAS_HASH % wid)
+            _choose(page, wid, c["name"], option)
+            if page.js(JS_CANVAS_HASH % wid) == canvas:
+                stuck.append(f"{c['name']} = {option} (canvas not redrawn)")
+            else:
+                moved.append(f"{c['name']} = {option}")
+            _choose(page, wid, c["name"], c["value"])
+    return moved, stuck
+
+
+def press_buttons(page, wid: str, buttons: list[str]) -> tuple[list[str], list[str]]:
+    """Click every button of widget ``wid`` that is not the runtime's or a player's, from the
+    widget's start values (each must redraw the canvas); set the widget's values back after
+    each."""
+    pressed, stuck = [], []
+    for action in buttons:
+        if action in OWN_BUTTONS:
+            continue
+        saved = page.js(JS_VALUES % wid)
+        page.js(JS_DEFAULTS % wid)
+        page.js(JS_TWO_FRAMES)
+        canvas = page.js(JS_CANVAS_HASH % wid)
+        page.js(JS_CLICK % (wid, json.dumps(action)))
+        page.js(JS_TWO_FRAMES)
+        if page.js(JS_CANVAS_HASH % wid) == canvas:
+            stuck.append(f"button {action} (canvas not redrawn)")
+        else:
+            pressed.append(f"button {action}")
+        page.js(JS_RESTORE % (wid, json.dumps(saved)))
+        page.js(JS_TWO_FRAMES)
+    return pressed, stuck
+
+
+def move_sliders_under_choices(page, wid: str, stuck: list[str], choices: list[dict]):
+    """Move again each slider of ``stuck`` whose canvas was not redrawn, under each option of
+    each choice in turn (a method's parameter changes nothing under another method); return
+    (what moved, what is still stuck)."""
+    moved, still = [], []
+    for entry in stuck:
+        param = entry.split(" ", 1)[0]
+        if "(canvas not redrawn)" not in entry:
+            still.append(entry)
+            continue
+        done = None
+        for c in choices:
+            for option in c["options"]:
+                if option == c["value"]:
+                    continue
+                _choose(page, wid, c["name"], option)
+                again, left = move_sliders(page, wid, [param])
+                _choose(page, wid, c["name"], c["value"])
+                if again and not left:
+                    done = f"{again[0]} (under {c['name']} = {option})"
+                    break
+            if done:
+                break
+        if done:
+            moved.append(done)
+        else:
+            still.append(entry)
+    return moved, still
+
+
 def _bench(page, wid: str, update_budget: float) -> dict:
     # On a shared machine other work can slow a run down: up to three runs, the best counts
     # (as timeit takes the minimum of its repeats).
@@ -170,12 +291,23 @@ def check_live_widgets(page, full: bool = True) -> tuple[list[str], list[str]]:
             failures.append(f"{name}: drawn in {w['mode']} mode on a {w['pageMode']} page")
         wid = json.dumps(w["id"])
         moved, stuck = move_sliders(page, wid, w["sliders"])
+        if stuck and w["choices"]:
+            more, stuck = move_sliders_under_choices(page, wid, stuck, w["choices"])
+            moved += more
         for s in stuck:
             failures.append(f"{name}: moving slider {s}")
+        chosen, unchosen = move_choices(page, wid, w["choices"])
+        pressed, unpressed = press_buttons(page, wid, w["buttons"])
+        for s in unchosen + unpressed:
+            failures.append(f"{name}: {s}")
         line = (
             f"{name}: {w['mode']} mode; {len(moved)} of {len(w['sliders'])} sliders moved by "
             f"the keyboard redraw it ({'; '.join(moved[:2])}{'; ...' if len(moved) > 2 else ''})"
         )
+        if w["choices"]:
+            line += f"; {len(chosen)} options of {len(w['choices'])} choices redraw it"
+        if pressed:
+            line += f"; {', '.join(pressed)} redraws it"
         if full:
             size_budget = w["sizeBudget"] or SIZE_BUDGET_BYTES
             update_budget = w["updateBudget"] or UPDATE_BUDGET_MS
