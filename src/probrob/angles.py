@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 from . import _validation as check
 
@@ -34,11 +35,39 @@ _TWO_PI = 2.0 * np.pi
 _FAST_LIMIT = 40.0
 
 
-def _wrap_fmod(theta: np.ndarray) -> np.ndarray:
-    r = np.fmod(theta, _TWO_PI)  # exact, in (-2π, 2π), sign of θ
-    np.subtract(r, _TWO_PI, out=r, where=r >= np.pi)  # exact (Sterbenz)
-    np.add(r, _TWO_PI, out=r, where=r < -np.pi)
+@njit(cache=True, error_model="numpy")
+def _wrap_one(theta: float) -> float:
+    """:func:`_wrap` of one float, compiled (no fast-math: each operation rounds as in IEEE
+    double precision, so this is the Python float path's algorithm to the last bit)."""
+    if -_FAST_LIMIT < theta < _FAST_LIMIT:
+        r = theta - np.rint(theta * (1.0 / _TWO_PI)) * _TWO_PI  # rint: half to even
+    elif np.isinf(theta):  # no direction
+        return np.nan
+    else:
+        r = np.fmod(theta, _TWO_PI)  # exact, in (-2π, 2π), sign of θ
+    if r >= np.pi:  # exact (Sterbenz)
+        r -= _TWO_PI
+    if r < -np.pi:  # round() one turn too far (θ / 2π just below k + ½)
+        r += _TWO_PI
     return r
+
+
+@njit(cache=True, error_model="numpy")
+def _wrap_each(theta: np.ndarray, out: np.ndarray) -> None:
+    """:func:`_wrap_one` of every entry of the 1-D ``theta``, into ``out``: a first loop
+    without branches for the common case (which the compiler vectorizes), then the
+    others."""
+    rare = False
+    for i in range(theta.size):
+        t = theta[i]
+        r = t - np.rint(t * (1.0 / _TWO_PI)) * _TWO_PI
+        r = r - _TWO_PI if r >= np.pi else r
+        out[i] = r + _TWO_PI if r < -np.pi else r
+        rare |= not abs(t) < _FAST_LIMIT
+    if rare:
+        for i in range(theta.size):
+            if not abs(theta[i]) < _FAST_LIMIT:
+                out[i] = _wrap_one(theta[i])
 
 
 def _wrap(theta: np.ndarray) -> np.ndarray:
@@ -49,9 +78,11 @@ def _wrap(theta: np.ndarray) -> np.ndarray:
     it never leaves the range and θ in range comes back unchanged. Angles below
     ``_FAST_LIMIT`` in magnitude take a faster route to the same bits.
 
-    A Python ``float`` (exactly that type) takes the same steps in scalar arithmetic and
-    returns a ``float``, bit for bit the array result (``round`` and ``np.round`` both
-    round half to even): the filters' per-feature loops wrap one bearing at a time.
+    One compiled loop over the entries (the filters wrap arrays of a few sigma points at a
+    time, where a chain of numpy operations costs more than the arithmetic). A Python
+    ``float`` (exactly that type) takes the same steps in Python's arithmetic and returns a
+    ``float``, bit for bit the array result (``round`` and ``np.rint`` both round half to
+    even): the filters' per-feature loops wrap one bearing at a time.
     """
     if type(theta) is float:
         if -_FAST_LIMIT < theta < _FAST_LIMIT:
@@ -65,18 +96,10 @@ def _wrap(theta: np.ndarray) -> np.ndarray:
         if r < -math.pi:
             r += _TWO_PI
         return r
-    theta = np.asarray(theta)
-    turns = np.round(theta * (1.0 / _TWO_PI))
-    turns *= _TWO_PI
-    r = np.atleast_1d(np.subtract(theta, turns))
-    r[r >= np.pi] -= _TWO_PI
-    if r.size and r.min() < -np.pi:  # round() one turn too far (θ / 2π just below k + ½)
-        r[r < -np.pi] += _TWO_PI
-    r = r.reshape(theta.shape)
-    if theta.size and not (theta.min() > -_FAST_LIMIT and theta.max() < _FAST_LIMIT):
-        big = np.abs(theta) >= _FAST_LIMIT
-        r[big] = _wrap_fmod(theta[big])
-    return r
+    theta = np.asarray(theta, dtype=np.float64)
+    out = np.empty(theta.shape)
+    _wrap_each(theta.ravel(), out.reshape(-1))
+    return out
 
 
 def _diff(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -271,7 +271,6 @@ def arc_update(x_prev, ds, dtheta):
     dtheta = check.finite(dtheta, "dtheta")
     x, y, th = np.moveaxis(x_prev, -1, 0)
     check.batch_shape(x_prev=x_prev.shape[:-1], ds=ds.shape, dtheta=dtheta.shape)
-    x, y, th, ds, dtheta = np.broadcast_arrays(x, y, th, ds, dtheta)
     out = np.stack(_arc(x, y, th, ds, dtheta, 1.0), axis=-1)
     check.no_overflow(out, "arc_update", x_prev=x_prev, ds=ds, dtheta=dtheta)
     return out

@@ -155,6 +155,12 @@ def _identity(n: int) -> np.ndarray:
     return eye
 
 
+def _diag(v: np.ndarray) -> np.ndarray:
+    """``np.diag(v)`` of a vector ``v`` (n,): ``v`` times the identity (one multiplication,
+    where ``np.diag`` costs more in its checks than in the arithmetic on a 2×2 or 3×3)."""
+    return v * _identity(v.shape[0])
+
+
 def _inverse(S: np.ndarray, name: str = _S_NAME):
     r""":math:`S^{-1}` and the Cholesky factor :math:`L` of one positive-definite ``S`` (n, n).
 
@@ -209,8 +215,7 @@ def _sqrt_psd(S: np.ndarray) -> np.ndarray:
 def _finish(mu: np.ndarray, Sigma: np.ndarray):
     """Lines 19–20 (Tables 7.2, 7.3) and 15–16 (7.4): the heading wrapped, Σ symmetrised."""
     _finite_or_raise("the estimate", mu, Sigma)
-    mu = mu.copy()
-    mu[2] = _wrap(mu.item(2))
+    mu[2] = _wrap(mu.item(2))  # in place: every caller passes an array of its own
     return mu, 0.5 * (Sigma + Sigma.T)
 
 
@@ -257,7 +262,7 @@ def _ekf_predict(mu, Sigma, u, dt, alpha):
     g13, g23, v11, v21, v12, v22 = _model_at(_velocity_jacobian_entries, theta, v, w, dt)
     G = np.array([[1.0, 0.0, g13], [0.0, 1.0, g23], [0.0, 0.0, 1.0]])  # line 3
     V = np.array([[v11, v12], [v21, v22], [0.0, dt]])  # line 4
-    M = np.diag(_motion_noise(alpha, u))  # line 5
+    M = _diag(_motion_noise(alpha, u))  # line 5
     mu_bar = np.array(_model_at(_arc, x, y, theta, v, w, dt))  # line 6
     Sigma_bar = G.dot(Sigma).dot(G.T) + V.dot(M).dot(V.T)  # line 7
     _finite_or_raise("the prediction", Sigma_bar)
@@ -284,7 +289,7 @@ def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
     """Table 7.2 on validated input; returns μ_t, Σ_t and log p(z_t)."""
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
     d = z.shape[1]
-    Q = np.diag(sigmas[:d] ** 2)  # line 8
+    Q = _diag(sigmas[:d] ** 2)  # line 8
     I = _identity(3)  # noqa: E741 (the table's I)
     log_p = 0.0
     for z_i, j in zip(z, c.tolist(), strict=True):  # lines 9-10
@@ -487,7 +492,7 @@ def _ekf_ml(mu, Sigma, u, z, m, dt, alpha, sigmas, threshold):
     """Table 7.3 on validated input: every landmark scored at once, features in sequence."""
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
     d = z.shape[1]
-    Q = np.diag(sigmas[:d] ** 2)  # line 8
+    Q = _diag(sigmas[:d] ** 2)  # line 8
     I = _identity(3)  # noqa: E741 (the table's I)
     landmarks = m[:, :d]
     j = np.full(z.shape[0], -1, dtype=int)
@@ -672,19 +677,18 @@ def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
     # would reject; for a positive-definite Σ^a this is its Cholesky factor).
     root = np.zeros((n, n))
     root[:3, :3] = _sqrt_psd(Sigma)
-    root[3:, 3:] = np.diag(np.sqrt(np.concatenate([M, *[Q] * k])))
+    root.ravel()[3 * (n + 1) :: n + 1] = np.sqrt(np.concatenate([M, *[Q] * k]))  # diagonal
     spread = gamma * root.T
     chi_a = np.concatenate([mu_a[None], mu_a + spread, mu_a - spread])  # line 6
     chi_x, chi_u, chi_z = chi_a[:, :3], chi_a[:, 3:5], chi_a[:, 5:]
-    chi_x_bar = np.empty_like(chi_x)  # line 7: g(u + χ^u, χ^x), the motion model's _arc
+    chi_x_bar = np.empty((2 * n + 1, 3))  # line 7: g(u + χ^u, χ^x), the motion model's _arc
     _arc(*chi_x.T, *(u + chi_u).T, dt, out=chi_x_bar)
     _finite_or_raise("the predicted sigma points", chi_x_bar)
     mu_bar = wm.dot(chi_x_bar)  # line 8
     mu_bar[2] = _circular_mean(wm, chi_x_bar[:, 2])
     dx = chi_x_bar - mu_bar
     dx[:, 2] = _wrap(dx[:, 2])
-    Sigma_bar = (wc[:, None] * dx).T.dot(dx)  # line 9
-    Sigma_bar = 0.5 * (Sigma_bar + Sigma_bar.T)
+    Sigma_bar = (wc[:, None] * dx).T.dot(dx)  # line 9 (symmetrised with Σ_t, by _finish)
     # A sum of outer products with weights >= 0 is positive semi-definite; only a negative
     # w_0^(c) (a small ukf_alpha) can break it.
     if wc[0] < 0 and not check.is_positive_semidefinite(Sigma_bar):

@@ -49,6 +49,7 @@ import math
 from collections.abc import Callable
 
 import numpy as np
+from numba import njit
 
 from . import _validation as check
 from .angles import _diff, _wrap
@@ -107,12 +108,36 @@ def _trig(a):
     return (math.cos, math.sin) if type(a) is float else (np.cos, np.sin)
 
 
+@njit(cache=True, error_model="numpy")
+def _sinc_one(h: float) -> float:
+    """``sin(h) / h`` of one float, exactly 1 at ``h = 0`` (compiled; ``math.sin`` is the
+    C library's, as in Python, so this is Python's arithmetic to the last bit)."""
+    return math.sin(h) / h if h != 0.0 else 1.0
+
+
 def _sinc(h):
     """``sin(h) / h``, exactly 1 at ``h = 0`` (a ``float`` for a Python ``float``)."""
     if type(h) is float:
-        return math.sin(h) / h if h != 0.0 else 1.0
+        return _sinc_one(h)
     h = np.asarray(h, dtype=float)
     return np.divide(np.sin(h), h, out=np.ones_like(h), where=h != 0)
+
+
+@njit(cache=True, error_model="numpy")
+def _arc_one(x: float, y: float, th: float, v: float, w: float, dt: float):
+    """:func:`_arc` of one pose and control (floats): the chord form, compiled without
+    fast-math (each operation rounds as in IEEE double precision, never fused)."""
+    half = w * (0.5 * dt)
+    chord = _sinc_one(half) * v * dt
+    mid = th + half
+    return x + chord * math.cos(mid), y + chord * math.sin(mid), mid + half
+
+
+@njit(cache=True, error_model="numpy")
+def _arc_each(x, y, th, v, w, dt, out):
+    """:func:`_arc_one` of the 1-D ``x, y, th, v, w`` (one length N) into ``out`` (N, 3)."""
+    for i in range(out.shape[0]):
+        out[i, 0], out[i, 1], out[i, 2] = _arc_one(x[i], y[i], th[i], v[i], w[i], dt)
 
 
 def _arc(x, y, th, v, w, dt, out=None):
@@ -120,23 +145,27 @@ def _arc(x, y, th, v, w, dt, out=None):
 
     Uses :math:`\frac{v}{\omega}[\sin(\theta + \omega\Delta t) - \sin\theta] =
     v\Delta t\,\mathrm{sinc}(\omega\Delta t / 2)\cos(\theta + \omega\Delta t / 2)`,
-    which is finite and exact at :math:`\omega = 0`. Writes into ``out`` (a
-    pre-allocated ``(..., 3)`` array) if given, else returns the three components.
+    which is finite and exact at :math:`\omega = 0`. ``x, y, th, v, w`` are floats or
+    broadcastable arrays, ``dt`` one number. Six Python floats give a tuple of three floats;
+    otherwise writes into ``out`` (a pre-allocated C-contiguous ``(..., 3)`` array) if
+    given, else returns the three components (arrays of the broadcast shape).
+
+    One compiled loop over the poses (:func:`_arc_one`): the same arithmetic for one pose
+    and for a million, to the last bit, and no temporary arrays (the UKF moves a few sigma
+    points a step, where a chain of numpy operations costs more than the arithmetic).
     """
-    half = w * (0.5 * dt)
-    chord = _sinc(half)
-    chord *= v
-    chord *= dt
-    mid = th + half
-    if out is None:
-        cos, sin = _trig(mid)
-        return x + chord * cos(mid), y + chord * sin(mid), mid + half
-    np.multiply(chord, np.cos(mid), out=out[..., 0])
-    out[..., 0] += x
-    np.multiply(chord, np.sin(mid), out=out[..., 1])
-    out[..., 1] += y
-    np.add(mid, half, out=out[..., 2])
-    return out
+    if out is None and type(x) is type(y) is type(th) is type(v) is type(w) is float:
+        return _arc_one(x, y, th, v, w, float(dt))
+    arrays = [np.asarray(a, dtype=np.float64) for a in (x, y, th, v, w)]
+    shape = arrays[0].shape
+    if len(shape) != 1 or any(a.shape != shape for a in arrays):
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+        arrays = [np.broadcast_to(a, shape).ravel() for a in arrays]
+    result = np.empty((*shape, 3)) if out is None else out
+    if result.shape != (*shape, 3) or not result.flags.c_contiguous:
+        raise ValueError(f"out must be a C-contiguous array of shape {(*shape, 3)}")
+    _arc_each(*arrays, float(dt), result.reshape(-1, 3))
+    return result if out is not None else (result[..., 0], result[..., 1], result[..., 2])
 
 
 def _velocity_controls(alpha, u_t, noise):

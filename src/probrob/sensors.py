@@ -151,8 +151,11 @@ def _jacobian_entries(dx, dy):
     ``dx, dy`` the landmark minus the pose (floats or arrays, unchecked). Raises
     ``ValueError`` where the pose coincides with its landmark (:math:`q = 0`).
     """
-    with np.errstate(over="ignore"):
+    if type(dx) is type(dy) is float:  # Python's float arithmetic overflows to inf silently
         q = dx * dx + dy * dy
+    else:
+        with np.errstate(over="ignore"):
+            q = dx * dx + dy * dy
     if (q == 0.0) if type(q) is float else np.any(q == 0):
         raise ValueError("x coincides with a landmark of m: the bearing has no Jacobian there")
     if (q == math.inf) if type(q) is float else np.any(np.isinf(q)):
