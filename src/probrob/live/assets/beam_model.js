@@ -8,7 +8,9 @@
 // differ in theirs; held to probrob.mcl with sensor="beam" by tests/test_live_mcl.py. Uses
 // normalCdf of beam.js (Φ, for p_hit's normaliser) and the distance field of
 // likelihood_field.js. Widget: probrob.live.mcl.particle_filter_live, whose kernel mcl.js
-// weighs the particles with beamScanLogLikelihood.
+// weighs the particles with beamScanLogLikelihood (2,000 particles of 60 beams on the Intel
+// map: 120,000 rays, ~12 traversal steps each, about 20 ms in Chromium on this machine class:
+// the beam model does not fit in one frame there; the likelihood field takes ~1 ms).
 
 // probrob.maps._HALF_DIAGONAL and _PULL_BACK; the smallest normal double (_TINY)
 const HALF_DIAGONAL = Math.sqrt(0.5) + 1e-9;
@@ -37,17 +39,24 @@ function floorClip(v, lo, hi) {
   return v < lo ? lo : v > hi ? hi : Math.floor(v);
 }
 
-// probrob.maps._cast_hybrid for one ray from (x0, y0) along (dx, dy), all in cell units:
-// the range in cells (t_max when nothing is hit). Its proven bounds (_step_bounds) hold here
-// too; the loops stop at them.
-function castRay(tab, x0, y0, dx, dy, tMax) {
+// The first jump of sphere tracing from (x0, y0), the same for every beam of a pose (at t = 0
+// the ray stands in the pose's cell whatever its direction): the free radius there if it
+// exceeds a cell (capped at tMax), else 0 (the ray stops sphere tracing at once)
+function firstJump(tab, x0, y0, tMax) {
+  const f = tab.free[(floorClip(y0, -1, tab.h) + 1) * (tab.w + 2) + floorClip(x0, -1, tab.w) + 1];
+  return f > 1 && 0 < tMax ? Math.min(f, tMax) : 0;
+}
+
+// probrob.maps._cast_hybrid for one ray from (x0, y0) along (dx, dy), all in cell units, after
+// its first jump `t` (firstJump): the range in cells (t_max when nothing is hit). Its proven
+// bounds (_step_bounds) hold here too; the loops stop at them.
+function castRay(tab, x0, y0, dx, dy, tMax, t) {
   const { code, free, h, w } = tab;
   const W2 = w + 2;
   if (dx !== 0 && Math.abs(dx) < TINY) dx = Math.sign(dx) * TINY; // probrob.maps._ray
   if (dy !== 0 && Math.abs(dy) < TINY) dy = Math.sign(dy) * TINY;
   // sphere tracing alone while the free radius exceeds a cell (_sphere_jump)
-  let t = 0;
-  for (let n = 0; n <= h + w + 4; n++) {
+  for (let n = 0; t > 0 && n <= h + w + 4; n++) {
     const jj = floorClip(x0 + t * dx, -1, w);
     const ii = floorClip(y0 + t * dy, -1, h);
     const f = free[(ii + 1) * W2 + jj + 1];
@@ -134,36 +143,41 @@ function beamMixture(p) {
     for (const a of terms) s += Math.exp(a - fm);
     return Math.log(s) + fm;
   }
-  // log p(z | z*) of one beam, z already capped at z_max (probrob.sensors._mixture)
-  return function logMixture(z, zs) {
+  // log p(z | z*) of one beam, z already capped at z_max (probrob.sensors._mixture); shortTop:
+  // p_short's numerator lam e^(-lam z), the same for every particle (shortNumerators)
+  function logMixture(z, zs, shortTop) {
     const u = (z - zs) / sigma;
     let q = hitScale * Math.exp(-0.5 * u * u);
     if (zs < nearLow || zs > nearHigh) q /= hitMass(zs);
     if (zShort > 0) {
       let short;
-      if (zs > 0) short = (lam * Math.exp(-lam * z)) / -Math.expm1(-lam * zs);
+      if (zs > 0) short = shortTop / -Math.expm1(-lam * zs);
       else short = z === 0 ? Infinity : 0;
       q += zShort * (z <= zs ? short : 0);
     }
     q += z >= zmax ? atMax : rand;
     if (q === 0 || (q === Infinity && zs !== 0)) return logComponents(z, zs);
     return Math.log(q);
-  };
+  }
+  const shortNumerators = (z) => Float64Array.from(z, (zk) => lam * Math.exp(-lam * zk));
+  return { logMixture, shortNumerators };
 }
 
 // Table 6.1: sum over the beams of log p(z^k | z^k*) at the pose (gx, gy) in grid units,
-// heading th: z (metres, capped at z_max) and the beams' cos/sin (ca, sa); the rays' z* in
-// cells, times the resolution, capped at z_max (probrob.maps._cast)
-function beamScanLogLikelihood(tab, logMixture, z, ca, sa, gx, gy, th, res, maxRange) {
+// heading th: z (metres, capped at z_max), p_short's numerators `top` (the mixture's
+// shortNumerators(z)) and the beams' cos/sin (ca, sa); the rays' z* in cells, times the
+// resolution, capped at z_max (probrob.maps._cast)
+function beamScanLogLikelihood(tab, mixture, z, top, ca, sa, gx, gy, th, res, maxRange) {
   const ct = Math.cos(th);
   const st = Math.sin(th);
   const tMax = maxRange / res;
+  const t1 = firstJump(tab, gx, gy, tMax);
   let lp = 0;
   for (let k = 0; k < z.length; k++) {
     const dx = ct * ca[k] - st * sa[k];
     const dy = st * ca[k] + ct * sa[k];
-    const zs = Math.min(castRay(tab, gx, gy, dx, dy, tMax) * res, maxRange);
-    lp += logMixture(z[k], zs);
+    const zs = Math.min(castRay(tab, gx, gy, dx, dy, tMax, t1) * res, maxRange);
+    lp += mixture.logMixture(z[k], zs, top[k]);
   }
   return lp;
 }

@@ -280,6 +280,7 @@ function particleFilter({ model, config, api }) {
     const zr = Float64Array.from(p.sel, (k) => zt[k] / res);
     const use = Uint8Array.from(p.sel, (k) => (zt[k] < C.maxRange ? 1 : 0)); // max-range: skipped
     const zb = Float64Array.from(p.sel, (k) => Math.min(zt[k], C.maxRange));
+    const top = beam ? mixture.shortNumerators(zb) : null;
     const logW = new Float64Array(count);
     for (let i = 0; i < count; i++) {
       const xi = xs[3 * i];
@@ -289,7 +290,7 @@ function particleFilter({ model, config, api }) {
       } else if (beam) {
         const gx = (xi - ox) / res;
         const gy = (yi - oy) / res;
-        const lp = beamScanLogLikelihood(traversal, mixture, zb, p.ca, p.sa, gx, gy, xs[3 * i + 2],
+        const lp = beamScanLogLikelihood(traversal, mixture, zb, top, p.ca, p.sa, gx, gy, xs[3 * i + 2],
           res, C.maxRange);
         logW[i] = p.kappa * lp;
       } else {
