@@ -18,16 +18,18 @@ the covariance ellipse (:mod:`probrob.evaluation`).
 * :func:`run_filter` — one of the filters over a sequence of steps (a simulation or a
   dataset's ``stream()``), collecting the estimates in a :class:`FilterRun`.
 
-Each table is written once, in numpy, with the book's names (``G``, ``V``, ``M``, ``H``,
-``S``, ``K``, ``mu_bar``, ``Sigma_bar``) in the order of its lines. :math:`g` and its
-Jacobians come from :mod:`probrob.motion` (exact at :math:`\omega = 0`), :math:`h` and its
-Jacobian from :mod:`probrob.sensors`, so each model exists once. The public functions check
-their input once (:mod:`probrob._validation`) and then call the unchecked cores under one
+Each table is written once, with the book's names (``G``, ``V``, ``M``, ``H``, ``S``,
+``K``, ``mu_bar``, ``Sigma_bar``) in the order of its lines. :math:`g` and its Jacobians
+come from :mod:`probrob.motion` (exact at :math:`\omega = 0`), :math:`h` and its Jacobian
+from :mod:`probrob.sensors`, so each model exists once. The public functions check their
+input once (:mod:`probrob._validation`) and then call the unchecked cores under one
 ``np.errstate`` (:func:`run_filter`: one for the whole run). On the tables' 2×2 and 3×3
-matrices numpy's per-call cost exceeds the arithmetic, so the lines are spelled as filterpy
-spells them, products with ``ndarray.dot`` (``@`` costs twice as much there), and
-:math:`S^{-1}` with :math:`\log\det S` come from one Cholesky factorisation (LAPACK's
-``dposv``), not from ``np.linalg`` calls that each check their input again. Every
+matrices numpy's per-call cost exceeds the arithmetic: the EKF's per-feature loop (Table
+7.2, lines 9–18) is compiled by numba (the same matrix lines, ``@`` and ``np.linalg``; the
+models' scalar code compiled with it), and elsewhere the lines are spelled as filterpy
+spells them, products with ``ndarray.dot``, and :math:`S^{-1}` with its Cholesky factor
+from one LAPACK call (``dposv``), not from ``np.linalg`` calls that each check their input
+again. Every
 bearing innovation, and every bearing and heading residual of the UKF, is wrapped with
 :mod:`probrob.angles`; the returned mean heading is wrapped to :math:`[-\pi, \pi)`.
 
@@ -49,12 +51,12 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg.blas import dtrsv as _dtrsv
+from numba import njit
 from scipy.linalg.lapack import dposv as _dposv
 from scipy.linalg.lapack import dpotrf as _dpotrf
 
 from . import _validation as check
-from .angles import _wrap
+from .angles import _wrap, _wrap_one
 from .evaluation import chi2_quantile
 from .motion import (
     _arc,
@@ -63,10 +65,10 @@ from .motion import (
     _velocity_motion_core,
 )
 from .sensors import (
-    _jacobian_entries,
+    _jacobian_entries_one,
     _landmark_jacobian_core,
     _landmark_measurement_core,
-    _range_bearing,
+    _range_bearing_one,
 )
 
 __all__ = [
@@ -177,23 +179,6 @@ def _inverse(S: np.ndarray, name: str = _S_NAME):
     return S_inv, L
 
 
-def _log_normal_one(nu: np.ndarray, L: np.ndarray) -> float:
-    r""":math:`\log N(\nu; 0, S)` of one ``nu`` (n,), ``L`` the factor of :func:`_inverse`.
-
-    The Mahalanobis distance² as :math:`|L^{-1}\nu|^2`; where that overflows (the solve
-    may give ``inf - inf``), as :math:`s^2 |L^{-1}(\nu / s)|^2` with :math:`s = \max|\nu_i|`:
-    +inf, never NaN. The log-determinant from the diagonal of ``L``.
-    """
-    w = _dtrsv(L, nu, lower=1)
-    d2 = float(w.dot(w))
-    if not d2 < math.inf:
-        scale = float(np.abs(nu).max())
-        w = _dtrsv(L, nu / scale, lower=1)
-        d2 = scale * scale * float(w.dot(w))
-    log_det = 2.0 * sum(map(math.log, L.diagonal().tolist()))
-    return -0.5 * (d2 + log_det + nu.shape[0] * _LOG_2PI)
-
-
 def _log_normal(nu: np.ndarray, L: np.ndarray):
     r"""Mahalanobis distances² and :math:`\log N(\nu; 0, S)` with ``L`` the Cholesky factor of S."""
     w = np.linalg.solve(L, nu[..., None])[..., 0]
@@ -269,20 +254,78 @@ def _ekf_predict(mu, Sigma, u, dt, alpha):
     return mu_bar, Sigma_bar
 
 
+@njit(cache=True, error_model="numpy")
 def _landmark_at(mu_bar, landmark, d):
     r"""Table 7.2, lines 11–13, for one landmark: :math:`\hat z` and :math:`H` (``d`` rows).
 
     :math:`h` and the entries of :math:`H` are the model code of :mod:`probrob.sensors`
     evaluated at the one pose; the matrix is the table's.
     """
-    x, y, theta = mu_bar.tolist()
-    m_x, m_y, m_s = landmark.tolist()
+    x, y, theta = mu_bar[0], mu_bar[1], mu_bar[2]
+    m_x, m_y, m_s = landmark[0], landmark[1], landmark[2]
     delta_x, delta_y = m_x - x, m_y - y  # line 11: q = δ_x² + δ_y²
-    r_hat, phi_hat = _range_bearing(delta_x, delta_y, theta)
-    z_hat = np.array([r_hat, phi_hat, m_s][:d])  # line 12
-    h11, h12, h21, h22 = _jacobian_entries(delta_x, delta_y)
-    H = np.array([[h11, h12, 0.0], [h21, h22, -1.0], [0.0, 0.0, 0.0]][:d])  # line 13
+    r_hat, phi_hat = _range_bearing_one(delta_x, delta_y, theta)
+    z_hat = np.array([r_hat, phi_hat, m_s])[:d]  # line 12
+    h11, h12, h21, h22 = _jacobian_entries_one(delta_x, delta_y)
+    H = np.array([[h11, h12, 0.0], [h21, h22, -1.0], [0.0, 0.0, 0.0]])[:d]  # line 13
     return z_hat, H
+
+
+@njit(cache=True, error_model="numpy")
+def _forward_solve(L, v):
+    """:math:`L^{-1} v` for the lower triangle of ``L`` (n, n) (its upper triangle unread)."""
+    w = np.empty(v.shape[0])
+    for i in range(v.shape[0]):
+        s = v[i]
+        for j in range(i):
+            s -= L[i, j] * w[j]
+        w[i] = s / L[i, i]
+    return w
+
+
+@njit(cache=True, error_model="numpy")
+def _log_normal_one(nu, L):
+    r""":math:`\log N(\nu; 0, S)` of one ``nu`` (n,), ``L`` (n, n) holding the lower Cholesky
+    factor of ``S`` in its lower triangle (its upper triangle is not read).
+
+    The Mahalanobis distance² as :math:`|L^{-1}\nu|^2`; where that overflows (the solve
+    may give ``inf - inf``), as :math:`s^2 |L^{-1}(\nu / s)|^2` with :math:`s = \max|\nu_i|`:
+    +inf, never NaN. The log-determinant from the diagonal of ``L``. Compiled.
+    """
+    w = _forward_solve(L, nu)
+    d2 = w.dot(w)
+    if not d2 < math.inf:
+        scale = np.abs(nu).max()
+        w = _forward_solve(L, nu / scale)
+        d2 = scale * scale * w.dot(w)
+    log_det = 2.0 * np.log(np.diag(L)).sum()
+    return -0.5 * (d2 + log_det + nu.shape[0] * _LOG_2PI)
+
+
+@njit(cache=True, error_model="numpy")
+def _ekf_updates(mu_bar, Sigma_bar, z, landmarks, Q):
+    r"""Table 7.2, lines 9–18 and the factors of line 21, compiled: the features ``z``
+    (K, d) of the landmarks ``landmarks`` (K, 3) (rows ``m[c]``) in turn; returns
+    :math:`\bar\mu, \bar\Sigma` after the last and :math:`\log p(z_t)`.
+
+    Raises ``np.linalg.LinAlgError`` where an ``S`` is not positive definite (or not finite).
+    """
+    I = np.eye(3)  # noqa: E741 (the table's I)
+    log_p = 0.0
+    for i in range(z.shape[0]):  # lines 9-10
+        z_hat, H = _landmark_at(mu_bar, landmarks[i], z.shape[1])  # lines 11-13
+        S = H @ Sigma_bar @ H.T + Q  # line 14
+        L = np.linalg.cholesky(S)
+        S_inv = np.linalg.inv(S)
+        if not np.all(np.isfinite(S_inv)):
+            raise np.linalg.LinAlgError("S has no finite inverse")
+        K = Sigma_bar @ H.T @ S_inv  # line 15
+        nu = z[i] - z_hat
+        nu[1] = _wrap_one(nu[1])
+        mu_bar = mu_bar + K @ nu  # line 16
+        Sigma_bar = (I - K @ H) @ Sigma_bar  # line 17
+        log_p += _log_normal_one(nu, L)  # line 21, one factor
+    return mu_bar, Sigma_bar, log_p
 
 
 def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
@@ -290,17 +333,10 @@ def _ekf_known(mu, Sigma, u, z, c, m, dt, alpha, sigmas):
     mu_bar, Sigma_bar = _ekf_predict(mu, Sigma, u, dt, alpha)  # lines 2-7
     d = z.shape[1]
     Q = _diag(sigmas[:d] ** 2)  # line 8
-    I = _identity(3)  # noqa: E741 (the table's I)
-    log_p = 0.0
-    for z_i, j in zip(z, c.tolist(), strict=True):  # lines 9-10
-        z_hat, H = _landmark_at(mu_bar, m[j], d)  # lines 11-13
-        S = H.dot(Sigma_bar).dot(H.T) + Q  # line 14
-        S_inv, L = _inverse(S)
-        K = Sigma_bar.dot(H.T).dot(S_inv)  # line 15
-        nu = _innovation(z_i, z_hat)
-        mu_bar = mu_bar + K.dot(nu)  # line 16
-        Sigma_bar = (I - K.dot(H)).dot(Sigma_bar)  # line 17
-        log_p += _log_normal_one(nu, L)  # line 21, one factor
+    try:
+        mu_bar, Sigma_bar, log_p = _ekf_updates(mu_bar, Sigma_bar, z, m[c], Q)  # lines 9-18
+    except np.linalg.LinAlgError:
+        raise _not_positive_definite(_S_NAME) from None
     mu_t, Sigma_t = _finish(mu_bar, Sigma_bar)  # lines 19-20
     return mu_t, Sigma_t, log_p
 

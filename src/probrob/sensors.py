@@ -48,13 +48,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from types import SimpleNamespace
 
 import numpy as np
+from numba import njit
 from scipy.special import erf, ndtr, ndtri
 
 from . import _validation as check
-from .angles import _wrap, wrap_angle
+from .angles import _wrap, _wrap_one, wrap_angle
 from .distributions import prob_normal_distribution, sample_normal_distribution
 from .maps import _check_grid, _check_inside, ray_cast
 
@@ -126,14 +126,10 @@ def _relative(x, m):
     return dx, dy
 
 
-# Scalar elementary functions for Python floats: the landmark formulas below are written
-# once and evaluated either on numpy arrays (the public functions) or on floats (the
-# filters' per-feature loops, where a numpy call on one number costs ~1 µs).
-_SCALAR = SimpleNamespace(hypot=math.hypot, arctan2=math.atan2, sqrt=math.sqrt)
-
-
-def _xp(a):
-    return _SCALAR if type(a) is float else np
+@njit(cache=True, error_model="numpy")
+def _range_bearing_one(dx: float, dy: float, th: float):
+    """:func:`_range_bearing` of floats, compiled (for the EKF's per-feature loop)."""
+    return math.hypot(dx, dy), _wrap_one(math.atan2(dy, dx) - th)
 
 
 def _range_bearing(dx, dy, th):
@@ -141,8 +137,25 @@ def _range_bearing(dx, dy, th):
 
     ``dx, dy`` the landmark minus the pose, ``th`` the heading: floats or arrays (unchecked).
     """
-    xp = _xp(dx)
-    return xp.hypot(dx, dy), _wrap(xp.arctan2(dy, dx) - th)
+    if type(dx) is type(dy) is type(th) is float:
+        return _range_bearing_one(dx, dy, th)
+    return np.hypot(dx, dy), _wrap(np.arctan2(dy, dx) - th)
+
+
+_COINCIDES = "x coincides with a landmark of m: the bearing has no Jacobian there"
+
+
+@njit(cache=True, error_model="numpy")
+def _jacobian_entries_one(dx: float, dy: float):
+    """:func:`_jacobian_entries` of floats, compiled (for the EKF's per-feature loop)."""
+    q = dx * dx + dy * dy
+    if q == 0.0:
+        raise ValueError(_COINCIDES)
+    if q == math.inf:  # q beyond float64 (a landmark 1e154 m away): through r = hypot
+        r = math.hypot(dx, dy)
+        return -dx / r, -dy / r, dy / r / r, -dx / r / r
+    r = math.sqrt(q)
+    return -dx / r, -dy / r, dy / q, -dx / q
 
 
 def _jacobian_entries(dx, dy):
@@ -151,18 +164,17 @@ def _jacobian_entries(dx, dy):
     ``dx, dy`` the landmark minus the pose (floats or arrays, unchecked). Raises
     ``ValueError`` where the pose coincides with its landmark (:math:`q = 0`).
     """
-    if type(dx) is type(dy) is float:  # Python's float arithmetic overflows to inf silently
+    if type(dx) is type(dy) is float:
+        return _jacobian_entries_one(dx, dy)
+    with np.errstate(over="ignore"):
         q = dx * dx + dy * dy
-    else:
-        with np.errstate(over="ignore"):
-            q = dx * dx + dy * dy
-    if (q == 0.0) if type(q) is float else np.any(q == 0):
-        raise ValueError("x coincides with a landmark of m: the bearing has no Jacobian there")
-    if (q == math.inf) if type(q) is float else np.any(np.isinf(q)):
+    if np.any(q == 0):
+        raise ValueError(_COINCIDES)
+    if np.any(np.isinf(q)):
         # q beyond float64 (a landmark 1e154 m away): the same entries through r = hypot
-        r = _xp(dx).hypot(dx, dy)
+        r = np.hypot(dx, dy)
         return -dx / r, -dy / r, dy / r / r, -dx / r / r
-    r = _xp(q).sqrt(q)
+    r = np.sqrt(q)
     return -dx / r, -dy / r, dy / q, -dx / q
 
 
