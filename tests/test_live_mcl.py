@@ -929,7 +929,7 @@ def test_estimate_pose_in_javascript_is_probrobs(browser, tmp_path, name):
     cdp, b = browser
     x = _estimate_cases()[name]
     page = tmp_path / "estimate.html"
-    kernel = [asset(name) for name in ("runtime.js", "draw.js", "maths.js", "mcl.js")]
+    kernel = [asset(name) for name in ("runtime.js", "draw.js", "maths.js", "mcl_filter.js")]
     script = "\n".join([*kernel, "window.estimatePose = estimatePose;"])
     page.write_text(f"<!doctype html><meta charset='utf-8'><script>{script}</script>", "utf-8")
     tab = cdp.Tab.open(b, page.as_uri())

@@ -1,8 +1,9 @@
 r"""Live widget of chapter 8: Monte Carlo localization (Tables 8.2-8.4) over a stretch of a laser log.
 
-Holds :func:`particle_filter_live` (kernel ``assets/mcl.js``, which draws its own picture: the
-map, the particles, the reference and the estimate, the particle count over the steps, with
-step, play and kidnap buttons; the beam model's exact ray casting is ``assets/beam_model.js``),
+Holds :func:`particle_filter_live` (kernel ``assets/mcl_filter.js``, the filters, and
+``assets/mcl.js``, which draws its own picture: the map, the particles, the reference and the
+estimate, the particle count over the steps, with step, play and kidnap buttons; the beam
+model's exact ray casting is ``assets/beam_model.js``),
 the random numbers it embeds (:func:`particle_filter_draws`), its choice of beams
 (:func:`particle_filter_beams`), where its kidnap button moves the particles
 (:func:`particle_filter_kidnap_target`) and :func:`particle_filter_decoded` (what the page
@@ -565,6 +566,13 @@ def particle_filter_live(
             "the reference pose (green circle) and the filter's estimate (blue arrow); below it, "
             "the number of particles per step."
         ),
-        scripts=("maths.js", "likelihood_field.js", "beam.js", "beam_model.js", "mcl.js"),
+        scripts=(
+            "maths.js",
+            "likelihood_field.js",
+            "beam.js",
+            "beam_model.js",
+            "mcl_filter.js",
+            "mcl.js",
+        ),
         budgets={"size-budget": 400_000, "update-budget": 16},
     )
