@@ -718,7 +718,8 @@ def _ukf_predict(mu, Sigma, u, dt, alpha, sigmas, k, params):
     chi_a = np.concatenate([mu_a[None], mu_a + spread, mu_a - spread])  # line 6
     chi_x, chi_u, chi_z = chi_a[:, :3], chi_a[:, 3:5], chi_a[:, 5:]
     chi_x_bar = np.empty((2 * n + 1, 3))  # line 7: g(u + χ^u, χ^x), the motion model's _arc
-    _arc(*chi_x.T, *(u + chi_u).T, dt, out=chi_x_bar)
+    u_a = u + chi_u
+    _arc(chi_x[:, 0], chi_x[:, 1], chi_x[:, 2], u_a[:, 0], u_a[:, 1], dt, out=chi_x_bar)
     _finite_or_raise("the predicted sigma points", chi_x_bar)
     mu_bar = wm.dot(chi_x_bar)  # line 8
     mu_bar[2] = _circular_mean(wm, chi_x_bar[:, 2])
