@@ -296,3 +296,135 @@ def test_pz_of_an_extreme_pose_is_zero_not_nan():
     assert p == 0.0
     with pytest.raises(ValueError, match=r"^S \(the innovation covariance.*not positive definite"):
         ukf_localization(mu, *args, [0.05] * 4, (0.1, 0.05, 0.2))
+
+
+# --------------------------------------------------------------------------- compiled loops
+# Angle wrapping, the motion model's arc and the EKF's per-feature update are compiled
+# (numba, no fast-math). These pin them to the algorithms they replaced.
+
+_TWO_PI = 2.0 * np.pi
+
+
+def _wrap_by_numpy(theta):
+    """The numpy wrap before the compiled loop: θ - 2π·round(θ / 2π), moved by one turn where
+    needed; the exact remainder ``fmod`` from |θ| >= 40 on."""
+    theta = np.asarray(theta, dtype=float)
+    r = theta - np.round(theta * (1.0 / _TWO_PI)) * _TWO_PI
+    r = np.where(r >= np.pi, r - _TWO_PI, r)
+    r = np.where(r < -np.pi, r + _TWO_PI, r)
+    big = ~(np.abs(theta) < 40.0)
+    f = np.fmod(theta[big], _TWO_PI)
+    f = np.where(f >= np.pi, f - _TWO_PI, f)
+    r[big] = np.where(f < -np.pi, f + _TWO_PI, f)
+    return r
+
+
+def _angles_hard_to_wrap():
+    rng = np.random.default_rng(24)
+    k = np.arange(-9, 10)
+    edges = (k + 0.5) * _TWO_PI
+    return np.concatenate(
+        [
+            rng.uniform(-50.0, 50.0, 200_000),
+            rng.uniform(-1e10, 1e10, 500),
+            rng.normal(0.0, 1e300, 500),
+            edges,
+            np.nextafter(edges, np.inf),
+            np.nextafter(edges, -np.inf),
+            [np.pi, -np.pi, np.nextafter(np.pi, 0), np.nextafter(-np.pi, -4), 0.0, -0.0],
+            [39.999999, 40.0, -40.0, 5e-324, -5e-324, 1e308, -1e308],
+        ]
+    )
+
+
+def test_compiled_wrap_is_the_numpy_algorithm_to_the_last_bit():
+    from probrob.angles import _wrap
+
+    theta = _angles_hard_to_wrap()
+    got, want = _wrap(theta), _wrap_by_numpy(theta)
+    assert np.array_equal(got.view(np.int64), want.view(np.int64))
+    assert got.min() >= -np.pi and got.max() < np.pi
+    # the Python float path: the same bits, one angle at a time
+    some = theta[::97]
+    floats = np.array([_wrap(float(t)) for t in some])
+    assert np.array_equal(floats.view(np.int64), _wrap(some).view(np.int64))
+    # any shape and stride, and non-finite input gives NaN (no direction), never a wrong angle
+    grid = theta[:24].reshape(4, 6)
+    assert np.array_equal(_wrap(grid[:, ::2]), _wrap_by_numpy(grid[:, ::2]))
+    assert _wrap(np.array(7.0)).shape == ()
+    assert np.isnan(_wrap(np.array([np.inf, -np.inf, np.nan]))).all()
+
+
+def test_compiled_arc_is_the_chord_formula_for_one_pose_and_for_many():
+    from probrob.motion import _arc
+
+    rng = np.random.default_rng(5)
+    n = 20_000
+    x, y, th = rng.normal(0, 5, (3, n))
+    v = rng.normal(0, 2, n)
+    w = np.where(rng.random(n) < 0.1, 0.0, rng.normal(0, 3, n))  # ω = 0 exactly, often
+    dt = 0.1
+    got = np.empty((n, 3))
+    _arc(x, y, th, v, w, dt, out=got)
+    # the chord form in numpy (the code before the compiled loop)
+    half = w * (0.5 * dt)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        chord = np.where(half != 0, np.sin(half) / half, 1.0) * v * dt
+    mid = th + half
+    want = np.stack([x + chord * np.cos(mid), y + chord * np.sin(mid), mid + half], axis=-1)
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-13)
+    # the printed v/ω form where ω is not small, the straight line where ω = 0
+    turn = np.abs(w) > 0.1
+    r = v[turn] / w[turn]
+    printed = np.stack(
+        [
+            x[turn] - r * np.sin(th[turn]) + r * np.sin(th[turn] + w[turn] * dt),
+            y[turn] + r * np.cos(th[turn]) - r * np.cos(th[turn] + w[turn] * dt),
+            th[turn] + w[turn] * dt,
+        ],
+        axis=-1,
+    )
+    np.testing.assert_allclose(got[turn], printed, rtol=0, atol=1e-9)
+    straight = w == 0
+    np.testing.assert_allclose(
+        got[straight, 0], x[straight] + v[straight] * dt * np.cos(th[straight])
+    )
+    # one pose as Python floats: the same bits as the array
+    for i in range(0, n, 997):
+        one = _arc(*(float(a[i]) for a in (x, y, th, v, w)), dt)
+        assert one == tuple(got[i].tolist())
+    # broadcasting: one pose, many controls
+    many = np.stack(_arc(0.5, -1.0, 0.3, v[:7], w[:7], dt), axis=-1)
+    ref = np.empty((7, 3))
+    _arc(np.full(7, 0.5), np.full(7, -1.0), np.full(7, 0.3), v[:7], w[:7], dt, out=ref)
+    assert np.array_equal(many, ref)
+
+
+def test_compiled_ekf_update_is_the_table_in_numpy():
+    """Table 7.2's lines 9-18 in plain numpy (np.linalg.inv, the Cholesky factor for the
+    likelihood) against the compiled loop, three features in turn."""
+    from probrob.localization import _ekf_predict, _ekf_updates
+
+    alpha = np.array(ALPHA)
+    sigmas = np.array(SIGMAS)
+    mu_bar, Sigma_bar = _ekf_predict(MU, SIGMA, U, DT, alpha)
+    Q = np.diag(sigmas**2)
+    got_mu, got_Sigma, got_log_p = _ekf_updates(mu_bar, Sigma_bar, Z, MAP[C], Q)
+    mu, S_bar, log_p = mu_bar.copy(), Sigma_bar.copy(), 0.0
+    for z_i, (m_x, m_y, m_s) in zip(Z, MAP[C], strict=True):
+        dx, dy = m_x - mu[0], m_y - mu[1]
+        q = dx * dx + dy * dy
+        z_hat = np.array([math.sqrt(q), math.atan2(dy, dx) - mu[2], m_s])
+        H = np.array(
+            [[-dx / math.sqrt(q), -dy / math.sqrt(q), 0], [dy / q, -dx / q, -1], [0, 0, 0]]
+        )
+        S = H @ S_bar @ H.T + Q
+        K = S_bar @ H.T @ np.linalg.inv(S)
+        nu = z_i - z_hat
+        nu[1] = (nu[1] + np.pi) % _TWO_PI - np.pi
+        mu = mu + K @ nu
+        S_bar = (np.eye(3) - K @ H) @ S_bar
+        log_p += -0.5 * (nu @ np.linalg.solve(S, nu) + np.log(np.linalg.det(2 * np.pi * S)))
+    np.testing.assert_allclose(got_mu, mu, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(got_Sigma, S_bar, rtol=0, atol=1e-13)
+    assert got_log_p == pytest.approx(log_p, rel=1e-12)
