@@ -317,13 +317,12 @@ def _controls(steps, n_beams, alpha, params, start, view, n_particles, n_max, be
         Choice("view", "view", (("map", "whole map"), ("robot", "around the robot")), view),
         Choice(
             "sensor", "sensor",
-            (("likelihood_field", "likelihood field (Table 6.3)"), ("beam", "beam model (Table 6.1)")),
+            (("likelihood_field", "likelihood field"), ("beam", "beam model")),
             sensor,
         ),
         Choice(
             "method", "method",
-            (("mcl", "MCL (Table 8.2)"), ("augmented", "augmented MCL (Table 8.3)"),
-             ("kld", "KLD-sampling (Table 8.4)")),
+            (("mcl", "MCL"), ("augmented", "augmented MCL"), ("kld", "KLD-sampling")),
             method,
         ),
     ]  # fmt: skip
