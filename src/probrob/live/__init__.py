@@ -22,7 +22,9 @@ module                                          holds
                                                 :func:`landmark_model_live`
 :mod:`probrob.live.kinematics`                  the CIR report: :func:`cir_step_live`
 :mod:`probrob.live.localization`                Table 7.2: :func:`ekf_step_live`
-:mod:`probrob.live.mcl`                         Table 8.2: :func:`particle_filter_live`
+:mod:`probrob.live.mcl`                         Tables 8.2–8.4: :func:`particle_filter_live`
+:mod:`probrob.live.mcl_data`                    what it embeds: :func:`particle_filter_draws`,
+                                                :func:`particle_filter_decoded`
 ==============================================  ==============================================
 
 A live widget is one self-contained block of HTML, CSS and JavaScript (no CDN, no external
