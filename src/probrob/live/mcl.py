@@ -149,7 +149,7 @@ def _controls(steps, n_beams, alpha, params, start, view, n_particles, n_max, be
             "delta", "δ (KLD)", _snap(delta, "delta", PF_DELTA_STEP, PF_DELTA_MAX, PF_DELTA_STEP),
             PF_DELTA_STEP, PF_DELTA_MAX, PF_DELTA_STEP, snap=True,
         ),
-        Slider("kidnap", "kidnap after step", float(kidnap), 0.0, float(steps), 1.0, snap=True),
+        Slider("kidnap", "kidnap after", float(kidnap), 0.0, float(steps), 1.0, snap=True),
     ]  # fmt: skip
     choices = [
         Choice("start", "start", (("known", "known pose"), ("global", "uniform (global)")), start),
@@ -240,7 +240,7 @@ def particle_filter_live(
     (Table 6.1, :func:`probrob.sensors.beam_range_finder_model`, its expected ranges ray-cast in
     the page by the exact traversal of :func:`probrob.maps.ray_cast`; ``params.z_short``,
     ``params.z_max`` and ``params.lambda_short`` fixed). The kidnap button kidnaps the robot
-    after the step shown (the "kidnap after step" slider, 0: never): the particle set of that
+    after the step shown (the "kidnap after" slider, 0: never): the particle set of that
     step is moved by ``truth[s] - truth[k]`` (:func:`particle_filter_kidnap_target`), as
     ``run_mcl(on_step=...)`` does in the chapter, and the filter goes on with the log.
 
@@ -303,7 +303,7 @@ def particle_filter_live(
         Start values of Table 8.4's :math:`\varepsilon` in [0.01, 0.5] and :math:`\delta` in
         [0.001, 0.2] (a multiple of 0.001).
     kidnap : int
-        Start value of the "kidnap after step" slider, in [0, T] (0: no kidnapping).
+        Start value of the "kidnap after" slider, in [0, T] (0: no kidnapping).
     rng : None, int or numpy.random.Generator
         Seed of :func:`particle_filter_draws`.
     title : str
